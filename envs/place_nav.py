@@ -1,0 +1,210 @@
+"""``PlaceNav-v0``: a wheeled robot with a 360° camera in a procedurally generated building."""
+
+from __future__ import annotations
+
+import math
+from typing import Any
+
+import gymnasium as gym
+import mujoco
+import numpy as np
+from gymnasium import spaces
+
+from envs.layout import FloorPlan
+from envs.panorama import PanoramaGeometry
+from envs.rendering import SceneRenderer
+from envs.robot import MAX_SPEED, MAX_TURN, Robot, check_action
+from envs.scene import LIGHTING, Scene, build_scene
+
+
+class PlaceNavEnv(gym.Env):
+    """A differential-drive robot explores a building of named, textured rooms.
+
+    The building (rooms, doors, textures, furniture) is fixed by ``scene_seed`` at construction;
+    ``reset(seed=...)`` only draws the start pose. Ground truth (room, pose) is in ``info`` and
+    never in the observation, so place recognizers and agents can be scored against it.
+
+    ## Action Space
+    ``Box(-1, 1, (2,), float32)``:
+
+    | index | meaning | unit at 1.0 |
+    |-------|---------|-------------|
+    | 0 | forward speed | 0.5 m/s |
+    | 1 | turn rate, counter-clockwise positive | 1.5 rad/s |
+
+    Both become wheel speeds that the wheels' velocity actuators track, so the motion has inertia
+    and slips on collisions. Actions outside [-1, 1] or with NaN/inf raise ``ValueError``.
+
+    ## Observation Space
+    ``Dict``:
+
+    | key | space | meaning |
+    |-----|-------|---------|
+    | ``panorama`` | ``Box(0, 255, (H, W, 3), uint8)`` | unwrapped 360° cylindrical panorama; the heading is the centre column, the robot's left at W/4 (see :mod:`envs.panorama`) |
+    | ``odometry`` | ``Box(-inf, inf, (2,), float32)`` | measured forward speed (m/s) and turn rate (rad/s) from the wheel encoders |
+
+    ## Rewards
+    +1 the first time in an episode the robot enters each room (the start room counts as
+    entered), 0 otherwise: an exploration reward. Tasks with goals come as wrappers.
+
+    ## Episode End
+    Never terminates. Truncation comes from the registered ``max_episode_steps`` (500 steps of
+    ``control_dt`` = 0.1 s, i.e. 50 s of driving).
+
+    ## Info
+    ``room_id`` (int), ``room_name`` (str), ``pose`` (x, y, heading: float64 array),
+    ``rooms_visited`` (int).
+
+    ## Arguments
+    | argument | default | meaning |
+    |----------|---------|---------|
+    | ``scene_seed`` | 0 | seed of the building; same seed, same pixels |
+    | ``n_rooms`` | 4 | rooms, 1 to 32 |
+    | ``panorama_width`` | 512 | panorama width, pixels (at least 32) |
+    | ``panorama_height`` | 128 | panorama height, pixels (at least 8) |
+    | ``lighting`` | ``"day"`` | ``"day"``, ``"cloudy"`` or ``"night"``, as in COLD |
+    | ``n_cameras`` | 4 | cameras in the ring the panorama is stitched from |
+    | ``extra_doors`` | 0.5 | fraction of non-tree walls with a door (loops); 0 gives a tree |
+    | ``control_dt`` | 0.1 | seconds of simulation per step (physics runs at 5 ms) |
+    | ``render_mode`` | ``None`` | ``"rgb_array"``: top-down view with the robot above the panorama |
+
+    ``reset(options=...)`` accepts ``{"pose": (x, y, heading)}`` or ``{"room": name}`` to choose
+    the start.
+
+    ## Version History
+    - v0: first version.
+    """
+
+    metadata = {"render_modes": ["rgb_array"], "render_fps": 10}
+
+    def __init__(
+        self,
+        scene_seed: int = 0,
+        n_rooms: int = 4,
+        panorama_width: int = 512,
+        panorama_height: int = 128,
+        lighting: str = "day",
+        n_cameras: int = 4,
+        extra_doors: float = 0.5,
+        control_dt: float = 0.1,
+        render_mode: str | None = None,
+    ) -> None:
+        if render_mode is not None and render_mode not in self.metadata["render_modes"]:
+            raise ValueError(f"render_mode must be one of {self.metadata['render_modes']} or None, "
+                             f"got {render_mode!r}")
+        if lighting not in LIGHTING:
+            raise ValueError(f"unknown lighting {lighting!r}; choose one of {LIGHTING}")
+        if not 0.005 <= control_dt <= 1.0:
+            raise ValueError(f"control_dt must be in [0.005, 1] s, got {control_dt}")
+        self.render_mode = render_mode
+        self.geometry = PanoramaGeometry(panorama_width, panorama_height, n_cameras)
+        self.scene: Scene = build_scene(scene_seed, n_rooms, lighting, n_cameras,
+                                        self.geometry.fovy, extra_doors)
+        self.model = self.scene.model
+        self.data = mujoco.MjData(self.model)
+        self.robot = Robot(self.model)
+        self.n_substeps = max(1, round(control_dt / self.model.opt.timestep))
+        self._renderer: SceneRenderer | None = None
+        self._visited: set[int] = set()
+        self._panorama: np.ndarray | None = None
+
+        self.action_space = spaces.Box(-1.0, 1.0, (2,), np.float32)
+        self.observation_space = spaces.Dict({
+            "panorama": spaces.Box(0, 255, (panorama_height, panorama_width, 3), np.uint8),
+            "odometry": spaces.Box(-np.inf, np.inf, (2,), np.float32),
+        })
+
+    @property
+    def plan(self) -> FloorPlan:
+        """The building's floor plan (rooms, doors, walls, furniture)."""
+        return self.scene.plan
+
+    @property
+    def renderer(self) -> SceneRenderer:
+        if self._renderer is None:  # created lazily: vector-env workers build their own
+            self._renderer = SceneRenderer(self.model, self.scene.camera_names, self.geometry)
+        return self._renderer
+
+    def reset(
+        self, *, seed: int | None = None, options: dict[str, Any] | None = None
+    ) -> tuple[dict[str, np.ndarray], dict[str, Any]]:
+        super().reset(seed=seed)
+        mujoco.mj_resetData(self.model, self.data)
+        x, y, heading = self._start_pose(options or {})
+        self.robot.place(self.data, x, y, heading)
+        mujoco.mj_forward(self.model, self.data)
+        info = self._info()
+        self._visited = {info["room_id"]}
+        info["rooms_visited"] = 1
+        return self._observation(), info
+
+    def step(
+        self, action: np.ndarray
+    ) -> tuple[dict[str, np.ndarray], float, bool, bool, dict[str, Any]]:
+        action = check_action(action)
+        self.robot.command(self.data, action)
+        mujoco.mj_step(self.model, self.data, nstep=self.n_substeps)
+        info = self._info()
+        reward = 0.0
+        if info["room_id"] >= 0 and info["room_id"] not in self._visited:
+            self._visited.add(info["room_id"])
+            reward = 1.0
+        info["rooms_visited"] = len(self._visited)
+        return self._observation(), reward, False, False, info
+
+    def render(self) -> np.ndarray | None:
+        """Top-down view of the building with the robot, above the current panorama."""
+        if self.render_mode != "rgb_array":
+            return None
+        top = self.renderer.top_down(self.data, self.plan.bounds)
+        pano = self._panorama if self._panorama is not None else self.renderer.panorama(self.data)
+        h = max(1, round(pano.shape[0] * top.shape[1] / pano.shape[1]))
+        import cv2  # only rendering for people needs resizing
+
+        strip = cv2.resize(pano, (top.shape[1], h), interpolation=cv2.INTER_AREA)
+        return np.concatenate([top, strip], axis=0)
+
+    def close(self) -> None:
+        if self._renderer is not None:
+            self._renderer.close()
+            self._renderer = None
+
+    # -- helpers ---------------------------------------------------------------------------
+
+    def _start_pose(self, options: dict[str, Any]) -> tuple[float, float, float]:
+        unknown = set(options) - {"pose", "room"}
+        if unknown:
+            raise ValueError(f"unknown reset options {sorted(unknown)}; use 'pose' or 'room'")
+        if "pose" in options:
+            pose = np.asarray(options["pose"], dtype=np.float64)
+            if pose.shape != (3,) or not np.all(np.isfinite(pose)):
+                raise ValueError(f"options['pose'] must be finite (x, y, heading), got {pose}")
+            if self.plan.room_at(pose[0], pose[1]) < 0:
+                raise ValueError(f"start pose {pose.tolist()} is outside the building "
+                                 f"(bounds {self.plan.bounds})")
+            return float(pose[0]), float(pose[1]), float(pose[2])
+        if "room" in options:
+            room = self.plan.room_by_name(options["room"]).id
+        else:
+            room = int(self.np_random.integers(len(self.plan.rooms)))
+        x, y = self.plan.free_point(room, self.np_random)
+        return x, y, float(self.np_random.uniform(-math.pi, math.pi))
+
+    def _observation(self) -> dict[str, np.ndarray]:
+        self._panorama = self.renderer.panorama(self.data)
+        return {
+            "panorama": self._panorama,
+            "odometry": self.robot.velocity(self.data).astype(np.float32),
+        }
+
+    def _info(self) -> dict[str, Any]:
+        pose = self.robot.pose(self.data)
+        room = self.plan.room_at(pose[0], pose[1])
+        return {
+            "room_id": room,
+            "room_name": self.plan.rooms[room].name if room >= 0 else "outside",
+            "pose": pose,
+        }
+
+
+__all__ = ["PlaceNavEnv", "MAX_SPEED", "MAX_TURN"]

@@ -1,0 +1,236 @@
+"""Builds a MuJoCo world from a :class:`~envs.layout.FloorPlan` with ``mujoco.MjSpec``.
+
+Walls are visible grey collision boxes; each room lines its side of every wall with a thin,
+non-colliding textured plane, so the two faces of one wall show the two rooms' textures. Posters
+hang in front of the linings, furniture stands along the walls, and the robot of
+``assets/robot.xml`` is attached at the origin with ``n_cameras`` cameras on its mast.
+
+Everything is drawn from ``np.random.default_rng(scene_seed)``, so a seed fixes every pixel.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import mujoco
+import numpy as np
+
+from envs import textures
+from envs.layout import WALL_THICKNESS, FloorPlan, Room, Wall, generate_floor_plan
+
+WALL_HEIGHT = 2.2
+CAMERA_HEIGHT = 1.0
+LIGHTING = ("day", "cloudy", "night")
+
+# Lighting conditions of the COLD database. Each: headlight ambient/diffuse (grey level) and
+# directional lights as (direction, diffuse RGB).
+_LIGHTS: dict[str, dict] = {
+    "day": {"ambient": 0.35, "headlight": 0.25,
+            "sun": [((0.4, 0.3, -1.0), (0.55, 0.53, 0.48)), ((-0.5, -0.2, -1.0), (0.2, 0.2, 0.22))]},
+    "cloudy": {"ambient": 0.45, "headlight": 0.2,
+               "sun": [((0.0, 0.0, -1.0), (0.3, 0.32, 0.36))]},
+    "night": {"ambient": 0.12, "headlight": 0.35,
+              "sun": [((0.2, -0.3, -1.0), (0.28, 0.22, 0.14))]},
+}
+
+
+@dataclass
+class Scene:
+    """A compiled world: the plan it came from, the model, and names of its parts."""
+
+    plan: FloorPlan
+    spec: mujoco.MjSpec
+    model: mujoco.MjModel
+    camera_names: tuple[str, ...]
+    lighting: str
+
+
+def build_scene(
+    scene_seed: int,
+    n_rooms: int = 4,
+    lighting: str = "day",
+    n_cameras: int = 4,
+    camera_fovy: float = 90.0,
+    extra_doors: float = 0.5,
+) -> Scene:
+    """Generate a floor plan from ``scene_seed`` and compile it into a MuJoCo model.
+
+    Args:
+        scene_seed: seed of the plan, textures and furniture.
+        n_rooms: number of rooms.
+        lighting: one of :data:`LIGHTING`. It changes only the lights, never the geometry.
+        n_cameras: cameras on the mast, evenly spaced in yaw, for the panorama.
+        camera_fovy: vertical field of view of each camera, degrees.
+        extra_doors: see :func:`envs.layout.generate_floor_plan`.
+
+    Returns:
+        The compiled :class:`Scene`.
+    """
+    if lighting not in _LIGHTS:
+        raise ValueError(f"unknown lighting {lighting!r}; choose one of {LIGHTING}")
+    rng = np.random.default_rng(scene_seed)
+    plan = generate_floor_plan(n_rooms, rng, extra_doors=extra_doors)
+    spec = mujoco.MjSpec()
+    spec.modelname = f"placenav_{scene_seed}_{n_rooms}"
+    _setup_visual(spec, plan, lighting)
+    spec.option.timestep = 0.005
+    # velocity actuators on light wheels are stiff: implicit damping keeps 5 ms steps stable
+    spec.option.integrator = mujoco.mjtIntegrator.mjINT_IMPLICITFAST
+    _add_floor(spec, plan, rng)
+    _add_walls(spec, plan, rng)
+    _add_furniture(spec, plan, rng)
+    cams = _add_robot(spec, n_cameras, camera_fovy)
+    model = spec.compile()
+    return Scene(plan, spec, model, cams, lighting)
+
+
+def _setup_visual(spec: mujoco.MjSpec, plan: FloorPlan, lighting: str) -> None:
+    q = spec.visual.quality
+    q.shadowsize = 0  # shadows and multisampling cost ~20x in software GL (see README)
+    q.offsamples = 0
+    cond = _LIGHTS[lighting]
+    hl = spec.visual.headlight
+    hl.ambient = [cond["ambient"]] * 3
+    hl.diffuse = [cond["headlight"]] * 3
+    hl.specular = [0.0] * 3
+    for i, (direction, color) in enumerate(cond["sun"]):
+        light = spec.worldbody.add_light(name=f"sun{i}")
+        light.type = mujoco.mjtLightType.mjLIGHT_DIRECTIONAL
+        x0, y0, x1, y1 = plan.bounds
+        light.pos = [(x0 + x1) / 2, (y0 + y1) / 2, 6.0]
+        light.dir = list(direction)
+        light.diffuse = list(color)
+        light.specular = [0.0, 0.0, 0.0]
+        light.castshadow = False
+    spec.visual.map.znear = 0.01
+
+
+def _texture(spec: mujoco.MjSpec, name: str, img: np.ndarray) -> str:
+    tex = spec.add_texture(name=name, type=mujoco.mjtTexture.mjTEXTURE_2D,
+                           width=img.shape[1], height=img.shape[0], nchannel=3)
+    # MuJoCo stores 2D textures bottom row first relative to image convention: flip to upright.
+    tex.data = np.ascontiguousarray(img[::-1]).tobytes()
+    return name
+
+
+def _material(spec: mujoco.MjSpec, name: str, texture: str, repeat: tuple[float, float],
+              uniform: bool) -> str:
+    mat = spec.add_material(name=name, texrepeat=list(repeat), texuniform=uniform)
+    mat.textures[mujoco.mjtTextureRole.mjTEXROLE_RGB] = texture
+    mat.specular = 0.05
+    mat.shininess = 0.1
+    return name
+
+
+def _add_floor(spec: mujoco.MjSpec, plan: FloorPlan, rng: np.random.Generator) -> None:
+    x0, y0, x1, y1 = plan.bounds
+    spec.worldbody.add_geom(  # one collision plane; per-room visual floors sit on top of it
+        name="ground", type=mujoco.mjtGeom.mjGEOM_PLANE, size=[0, 0, 1], group=3,
+        pos=[(x0 + x1) / 2, (y0 + y1) / 2, 0], rgba=[0.2, 0.2, 0.2, 1],
+    )
+    for room in plan.rooms:
+        tex = _texture(spec, f"floor_tex{room.id}", textures.floor_texture(room.kind, rng))
+        mat = _material(spec, f"floor_mat{room.id}", tex, (0.5, 0.5), True)
+        cx, cy = room.center
+        spec.worldbody.add_geom(
+            name=f"floor{room.id}", type=mujoco.mjtGeom.mjGEOM_PLANE, material=mat,
+            size=[(room.x1 - room.x0) / 2, (room.y1 - room.y0) / 2, 1], pos=[cx, cy, 0.001],
+            contype=0, conaffinity=0,
+        )
+
+
+def _frame_quat(x_axis: tuple[float, float, float]) -> list[float]:
+    """Quaternion of a frame whose x axis is horizontal ``x_axis`` and whose y axis is up."""
+    x = np.asarray(x_axis, float)
+    y = np.array([0.0, 0.0, 1.0])
+    z = np.cross(x, y)
+    quat = np.zeros(4)
+    mujoco.mju_mat2Quat(quat, np.stack([x, y, z], axis=1).ravel())
+    return quat.tolist()
+
+
+def _add_walls(spec: mujoco.MjSpec, plan: FloorPlan, rng: np.random.Generator) -> None:
+    grey = spec.add_material(name="wall_core", rgba=[0.55, 0.55, 0.55, 1]).name
+    wall_mats = {}
+    for room in plan.rooms:
+        tex = _texture(spec, f"wall_tex{room.id}", textures.wall_texture(room.kind, rng))
+        wall_mats[room.id] = _material(spec, f"wall_mat{room.id}", tex, (0.5, 0.5), True)
+    half_t = WALL_THICKNESS / 2
+    for i, w in enumerate(plan.walls):
+        cx, cy = (w.x0 + w.x1) / 2, (w.y0 + w.y1) / 2
+        # extend by half the thickness so perpendicular walls meet without gaps
+        half_len = w.length / 2 + half_t
+        size = [half_len, half_t, WALL_HEIGHT / 2] if w.axis == "x" else [
+            half_t, half_len, WALL_HEIGHT / 2]
+        spec.worldbody.add_geom(name=f"wall{i}", type=mujoco.mjtGeom.mjGEOM_BOX, size=size,
+                                pos=[cx, cy, WALL_HEIGHT / 2], material=grey)
+        for side, room_id in enumerate(w.sides):
+            if room_id >= 0:
+                _line_wall(spec, plan.rooms[room_id], w, side, i, wall_mats[room_id], rng)
+
+
+def _line_wall(spec: mujoco.MjSpec, room: Room, w: Wall, side: int, wall_index: int,
+               material: str, rng: np.random.Generator) -> None:
+    """Texture ``room``'s face of wall ``w`` (side 0: the room is on the low side) and hang posters.
+    """
+    sign = -1.0 if side == 0 else 1.0  # the face normal points from the wall into the room
+    offset = WALL_THICKNESS / 2 + 0.002
+    if w.axis == "x":
+        normal = (0.0, sign, 0.0)
+        along = (-sign, 0.0, 0.0)  # x axis of the plane, so that normal = along x up
+    else:
+        normal = (sign, 0.0, 0.0)
+        along = (0.0, sign, 0.0)
+    cx, cy = (w.x0 + w.x1) / 2, (w.y0 + w.y1) / 2
+    quat = _frame_quat(along)
+    pos = [cx + normal[0] * offset, cy + normal[1] * offset, WALL_HEIGHT / 2]
+    spec.worldbody.add_geom(
+        name=f"lining{wall_index}_{side}", type=mujoco.mjtGeom.mjGEOM_PLANE, material=material,
+        size=[w.length / 2, WALL_HEIGHT / 2, 1], pos=pos, quat=quat, contype=0, conaffinity=0,
+    )
+    n_posters = int(rng.integers(0, 2 + int(w.length // 2.5)))
+    for k in range(n_posters):
+        width = float(rng.uniform(0.5, 0.9))
+        slot = w.length / n_posters
+        if slot < width + 0.2:
+            break
+        t = -w.length / 2 + slot * k + float(rng.uniform(width / 2 + 0.1, slot - width / 2 - 0.1))
+        tex = _texture(spec, f"poster_tex{wall_index}_{side}_{k}", textures.poster_texture(rng))
+        mat = _material(spec, f"poster_mat{wall_index}_{side}_{k}", tex, (1, 1), False)
+        height = width * 1.25
+        z = float(rng.uniform(0.9, 1.5))
+        spec.worldbody.add_geom(
+            name=f"poster{wall_index}_{side}_{k}", type=mujoco.mjtGeom.mjGEOM_PLANE,
+            material=mat, size=[width / 2, height / 2, 1], quat=quat, contype=0, conaffinity=0,
+            pos=[pos[0] + along[0] * t + normal[0] * 0.004,
+                 pos[1] + along[1] * t + normal[1] * 0.004, z],
+        )
+
+
+def _add_furniture(spec: mujoco.MjSpec, plan: FloorPlan, rng: np.random.Generator) -> None:
+    for room in plan.rooms:
+        tex = _texture(spec, f"furniture_tex{room.id}", textures.furniture_texture(rng))
+        mat = _material(spec, f"furniture_mat{room.id}", tex, (1, 1), True)
+        for i, f in enumerate(fi for fi in plan.furniture if fi.room == room.id):
+            spec.worldbody.add_geom(
+                name=f"furniture{room.id}_{i}", type=mujoco.mjtGeom.mjGEOM_BOX, material=mat,
+                size=[f.hx, f.hy, f.height / 2], pos=[f.x, f.y, f.height / 2],
+            )
+
+
+def _add_robot(spec: mujoco.MjSpec, n_cameras: int, fovy: float) -> tuple[str, ...]:
+    robot = mujoco.MjSpec.from_file(str(textures.ASSETS / "robot.xml"))
+    mount = robot.site("camera_mount")
+    base = robot.body("base")
+    names = []
+    for k in range(n_cameras):
+        yaw = 2 * math.pi * k / n_cameras
+        cam = base.add_camera(name=f"pano{k}", pos=list(mount.pos), fovy=fovy)
+        right = (math.sin(yaw), -math.cos(yaw), 0.0)  # camera x; it looks along -z = (cos, sin, 0)
+        cam.alt.type = mujoco.mjtOrientation.mjORIENTATION_XYAXES
+        cam.alt.xyaxes = [*right, 0.0, 0.0, 1.0]
+        names.append(f"pano{k}")
+    frame = spec.worldbody.add_frame()
+    frame.attach_body(base, "robot/", "")
+    return tuple(f"robot/{n}" for n in names)

@@ -1,0 +1,110 @@
+"""Local features, pluggable behind one small interface: ``extract(gray) -> Features``.
+
+| name   | descriptor      | paper / note |
+|--------|-----------------|--------------|
+| sift   | 128-d float     | seed 001 (Elgayar et al.), Sec. 3.1 |
+| kaze   | 64-d float      | closest free stand-in for the 64-d SURF of seed 000 (Tang et al.) |
+| surf   | 64-d float      | real SURF-64 from mahotas (MIT); SURF itself is patented and not in |
+|        |                 | the opencv-contrib wheels, so OpenCV's SURF is unavailable |
+| orb    | 256-bit binary  | fast; matched with the Hamming distance |
+| akaze  | 486-bit binary  | fast, scale-space like KAZE |
+
+Each extractor keeps at most ``max_features`` keypoints (strongest response first), so a kernel's
+size and the matching cost stay bounded.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import cv2
+import numpy as np
+
+FEATURES = ("sift", "kaze", "surf", "orb", "akaze")
+
+
+@dataclass(frozen=True)
+class Features:
+    """Keypoints of one image: ``xy`` (N, 2) float32 and ``descriptors`` (N, D)."""
+
+    xy: np.ndarray
+    descriptors: np.ndarray
+    binary: bool
+
+    def __len__(self) -> int:
+        return len(self.descriptors)
+
+
+def _cv2_factory(name: str):
+    contrib = getattr(cv2, "xfeatures2d", None)
+    for module in (cv2, contrib):
+        fn = getattr(module, f"{name}_create", None) if module is not None else None
+        if fn is not None:
+            return fn
+    raise ValueError(f"this OpenCV build has no {name}; install opencv-contrib-python-headless")
+
+
+class FeatureExtractor:
+    """Detects keypoints and computes descriptors with one of :data:`FEATURES`.
+
+    Args:
+        name: feature type.
+        max_features: keep the strongest ``max_features`` keypoints.
+    """
+
+    def __init__(self, name: str = "sift", max_features: int = 500) -> None:
+        if name not in FEATURES:
+            raise ValueError(f"unknown feature type {name!r}; choose one of {FEATURES}")
+        if max_features < 1:
+            raise ValueError(f"max_features must be positive, got {max_features}")
+        self.name = name
+        self.max_features = max_features
+        self.binary = name in ("orb", "akaze")
+        self._cv = None
+        if name == "sift":
+            self._cv = cv2.SIFT_create(nfeatures=max_features)
+        elif name == "orb":
+            self._cv = cv2.ORB_create(nfeatures=max_features)
+        elif name == "kaze":
+            self._cv = _cv2_factory("KAZE")(extended=False)
+        elif name == "akaze":
+            self._cv = _cv2_factory("AKAZE")()
+
+    def __getstate__(self) -> dict:  # cv2 objects do not pickle; rebuild them on load
+        return {"name": self.name, "max_features": self.max_features}
+
+    def __setstate__(self, state: dict) -> None:
+        self.__init__(**state)
+
+    def extract(self, gray: np.ndarray) -> Features:
+        """Features of a 2-D uint8 image (see :func:`placeclust.frames.to_gray`)."""
+        if self.name == "surf":
+            return self._surf(gray)
+        kps, desc = self._cv.detectAndCompute(gray, None)
+        if desc is None or not kps:
+            return self._empty()
+        if len(kps) > self.max_features:
+            order = np.argsort([-k.response for k in kps])[: self.max_features]
+            kps = [kps[i] for i in order]
+            desc = desc[order]
+        xy = np.array([k.pt for k in kps], np.float32)
+        desc = desc if self.binary else desc.astype(np.float32)
+        return Features(xy, np.ascontiguousarray(desc), self.binary)
+
+    def _surf(self, gray: np.ndarray) -> Features:
+        try:
+            from mahotas.features import surf
+        except ImportError as exc:
+            raise ImportError("features='surf' needs mahotas: pip install mahotas") from exc
+        pts = surf.surf(gray.astype(np.float64), max_points=self.max_features,
+                        descriptor_only=False)
+        if len(pts) == 0:
+            return self._empty()
+        # mahotas rows: y, x, scale, score, laplacian, angle, then the 64-d descriptor
+        return Features(pts[:, [1, 0]].astype(np.float32),
+                        np.ascontiguousarray(pts[:, 6:], np.float32), False)
+
+    def _empty(self) -> Features:
+        dim = {"sift": 128, "kaze": 64, "surf": 64}.get(self.name, 32 if self.name == "orb" else 61)
+        dtype = np.uint8 if self.binary else np.float32
+        return Features(np.zeros((0, 2), np.float32), np.zeros((0, dim), dtype), self.binary)

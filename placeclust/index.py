@@ -1,0 +1,96 @@
+"""Relocalization index: which places does an image look like, without a loop over all kernels.
+
+Each place puts a sample of its heaviest kernel features (``per_place``) into a FLANN index
+(kd-trees for float descriptors, LSH for binary ones), the model being RTAB-Map's FLANN
+vocabulary. New places go to a small brute-force *tail* first; when the tail holds
+``max_tail`` places the whole index is rebuilt ("sealed") from every place's current top
+features, so the build cost is amortised and a query costs one FLANN search plus a bounded
+brute-force one, whatever the map size. A query returns votes: for each image feature, the place
+owning its nearest indexed feature.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+
+import cv2
+import numpy as np
+
+from placeclust.matching import knn2
+
+_KDTREE, _LSH = 1, 6
+
+
+class PlaceIndex:
+    """Approximate nearest-neighbour votes over every place's top features.
+
+    Args:
+        binary: Hamming (LSH) or Euclidean (kd-tree) descriptors.
+        sample: ``sample(place_id) -> descriptors`` gives a place's current top features; it is
+            called when a place is added and for every place when the index is rebuilt.
+        max_tail: places kept in the brute-force tail before a rebuild.
+        checks: FLANN leaves visited per query (speed/recall trade-off).
+    """
+
+    def __init__(self, binary: bool, sample: Callable[[int], np.ndarray], max_tail: int = 24,
+                 checks: int = 32) -> None:
+        self.binary = binary
+        self._sample = sample
+        self.max_tail = max_tail
+        self.checks = checks
+        self._flann: cv2.flann.Index | None = None
+        self._labels = np.zeros(0, np.int64)
+        self._tail: dict[int, np.ndarray] = {}
+        self._places: set[int] = set()
+        self.n_rebuilds = 0
+
+    def __len__(self) -> int:
+        return len(self._places)
+
+    def add(self, place: int) -> None:
+        """Index a new place (its sample goes to the tail)."""
+        self._places.add(place)
+        self._tail[place] = self._sample(place)
+        if len(self._tail) >= self.max_tail:
+            self.rebuild()
+
+    def rebuild(self) -> None:
+        """Rebuild the FLANN part from every place's current top features; empty the tail."""
+        self._tail.clear()
+        samples = [(p, self._sample(p)) for p in sorted(self._places)]
+        samples = [(p, s) for p, s in samples if len(s)]
+        if not samples:
+            self._flann, self._labels = None, np.zeros(0, np.int64)
+            return
+        data = np.ascontiguousarray(np.concatenate([s for _, s in samples]))
+        self._labels = np.concatenate([np.full(len(s), p, np.int64) for p, s in samples])
+        params = (dict(algorithm=_LSH, table_number=6, key_size=12, multi_probe_level=1)
+                  if self.binary else dict(algorithm=_KDTREE, trees=4))
+        self._flann = cv2.flann_Index(data, params)
+        self.n_rebuilds += 1
+
+    def votes(self, descriptors: np.ndarray) -> dict[int, int]:
+        """Place -> number of ``descriptors`` whose nearest indexed feature belongs to it."""
+        n = len(descriptors)
+        if n == 0 or not self._places:
+            return {}
+        best_d = np.full(n, np.inf)
+        best_p = np.full(n, -1, np.int64)
+        if self._flann is not None and len(self._labels) >= 2:
+            idx, dist = self._flann.knnSearch(descriptors, 1, params=dict(checks=self.checks))
+            idx = idx[:, 0].astype(np.int64)
+            ok = idx >= 0
+            d = dist[:, 0].astype(np.float64)
+            d = d / (8 * descriptors.shape[1]) if self.binary else np.sqrt(np.maximum(d, 0))
+            best_d[ok], best_p[ok] = d[ok], self._labels[idx[ok]]
+        if self._tail:
+            places = list(self._tail)
+            data = np.concatenate([self._tail[p] for p in places])
+            labels = np.concatenate([np.full(len(self._tail[p]), p) for p in places])
+            dist, idx = knn2(descriptors, data, self.binary)
+            closer = (idx[:, 0] >= 0) & (dist[:, 0] < best_d)
+            best_p[closer] = labels[idx[closer, 0]]
+        counts: dict[int, int] = {}
+        for p in best_p[best_p >= 0].tolist():
+            counts[p] = counts.get(p, 0) + 1
+        return counts

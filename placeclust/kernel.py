@@ -1,0 +1,78 @@
+"""The union-of-local-features cluster kernel of seed 000 (Tang et al., Sec. III.B)."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from placeclust.matching import ratio_matches
+
+
+class UnionKernel:
+    """A place's kernel: the weighted union of the local features of the images it holds.
+
+    ``Union_Of_Cluster`` (Sec. III.B): the first image's features start with weight 1; each new
+    image's features that match a kernel feature (Eq. 3) add 1 to that feature's weight, the
+    unmatched ones join the kernel with weight 1. The paper then deletes the minimum-weight
+    features; online, that would delete everything just added, so the kernel is instead pruned
+    to its ``capacity`` heaviest features (ties: most recently matched kept), which bounds its
+    size and memory as the paper's pruning intends.
+
+    Args:
+        descriptors: features of the first image (N, D).
+        binary: Hamming (True) or Euclidean (False) descriptors.
+        capacity: the most features the kernel keeps.
+        ratio: Lowe's ratio for correspondences.
+    """
+
+    def __init__(self, descriptors: np.ndarray, binary: bool, capacity: int = 1200,
+                 ratio: float = 0.8) -> None:
+        if capacity < 1:
+            raise ValueError(f"capacity must be positive, got {capacity}")
+        self.binary = binary
+        self.capacity = capacity
+        self.ratio = ratio
+        self.descriptors = np.array(descriptors)
+        self.weights = np.ones(len(descriptors), np.float32)
+        self.last_seen = np.zeros(len(descriptors), np.int64)
+        self.n_images = 1
+        self._prune()
+
+    def __len__(self) -> int:
+        return len(self.descriptors)
+
+    def match(self, descriptors: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """Correspondences (image index, kernel index) of an image's features (Eq. 3)."""
+        return ratio_matches(descriptors, self.descriptors, self.binary, self.ratio)
+
+    def update(self, descriptors: np.ndarray,
+               matches: tuple[np.ndarray, np.ndarray] | None = None) -> None:
+        """Add one image (lines 6-15 of ``Union_Of_Cluster``), then prune to ``capacity``.
+
+        Args:
+            descriptors: the image's features.
+            matches: its correspondences with this kernel, if already computed by :meth:`match`.
+        """
+        img_idx, ker_idx = matches if matches is not None else self.match(descriptors)
+        self.n_images += 1
+        np.add.at(self.weights, ker_idx, 1.0)
+        self.last_seen[ker_idx] = self.n_images
+        new = np.setdiff1d(np.arange(len(descriptors)), img_idx)
+        if len(new):
+            self.descriptors = np.concatenate([self.descriptors, descriptors[new]])
+            self.weights = np.concatenate([self.weights, np.ones(len(new), np.float32)])
+            self.last_seen = np.concatenate(
+                [self.last_seen, np.full(len(new), self.n_images, np.int64)])
+        self._prune()
+
+    def top(self, n: int) -> np.ndarray:
+        """The ``n`` heaviest features' descriptors (for the relocalization index)."""
+        order = np.lexsort((-self.last_seen, -self.weights))[:n]
+        return self.descriptors[order]
+
+    def _prune(self) -> None:
+        if len(self.descriptors) <= self.capacity:
+            return
+        keep = np.sort(np.lexsort((-self.last_seen, -self.weights))[: self.capacity])
+        self.descriptors = self.descriptors[keep]
+        self.weights = self.weights[keep]
+        self.last_seen = self.last_seen[keep]

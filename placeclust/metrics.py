@@ -1,0 +1,115 @@
+"""Scores of a place clustering against ground-truth rooms.
+
+Definitions (``pred`` are place ids, ``-1`` unknown; ``truth`` room ids; N frames):
+
+- **precision** (purity, the "clustering precision" of seed 000, Fig. 2): each place is mapped to
+  the room most of its frames were taken in; precision is the fraction of frames whose place
+  maps to their own room. Unknown frames count as wrong.
+- **recall** (inverse purity): each room is mapped to the place holding most of its frames; the
+  fraction of frames in their room's place. One place per room gives 1; splitting a room lowers it.
+- **f_measure**: harmonic mean of precision and recall.
+- **nmi**, **ari**: scikit-learn's normalised mutual information and adjusted Rand index, with
+  unknown frames as one extra cluster.
+- **matching_rate**: seed 001's Table 2 "correct match" rate, the precision over the frames
+  the method actually localised (key frames for the nested mapper).
+- **confusion**: seed 001's Table 3 per room, one room against the rest after mapping each
+  place to its majority room: ``a`` true negatives, ``b`` false positives, ``c`` false
+  negatives, ``d`` true positives, ``AC = (a+d)/N``, ``TP = d/(c+d)``, ``P = d/(b+d)``.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from sklearn.metrics import adjusted_rand_score, normalized_mutual_info_score
+
+
+def _check(pred: np.ndarray, truth: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    pred, truth = np.asarray(pred).ravel(), np.asarray(truth).ravel()
+    if pred.shape != truth.shape:
+        raise ValueError(f"pred has {pred.size} frames but truth has {truth.size}")
+    if pred.size == 0:
+        raise ValueError("no frames to score")
+    return pred.astype(np.int64), truth.astype(np.int64)
+
+
+def contingency(pred: np.ndarray, truth: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """(table, places, rooms): ``table[i, j]`` frames of place ``places[i]`` in ``rooms[j]``."""
+    pred, truth = _check(pred, truth)
+    places, pi = np.unique(pred, return_inverse=True)
+    rooms, ri = np.unique(truth, return_inverse=True)
+    table = np.zeros((len(places), len(rooms)), np.int64)
+    np.add.at(table, (pi, ri), 1)
+    return table, places, rooms
+
+
+def place_to_room(pred: np.ndarray, truth: np.ndarray) -> dict[int, int]:
+    """Majority room of every place (unknown -1 maps to -1)."""
+    table, places, rooms = contingency(pred, truth)
+    return {int(p): (int(rooms[table[i].argmax()]) if p >= 0 else -1)
+            for i, p in enumerate(places)}
+
+
+def precision(pred: np.ndarray, truth: np.ndarray) -> float:
+    """Clustering precision (purity); unknown frames count as wrong."""
+    table, places, _ = contingency(pred, truth)
+    known = places >= 0
+    return float(table[known].max(axis=1).sum() / table.sum()) if known.any() else 0.0
+
+
+def recall(pred: np.ndarray, truth: np.ndarray) -> float:
+    """Inverse purity: fraction of frames in the place holding most of their room."""
+    table, places, _ = contingency(pred, truth)
+    return float(table[places >= 0].max(axis=0, initial=0).sum() / table.sum())
+
+
+def confusion_table(pred: np.ndarray, truth: np.ndarray) -> dict[int, dict[str, float]]:
+    """Seed 001 Table 3 figures per room: a, b, c, d, AC, TP (recall), P (precision)."""
+    pred, truth = _check(pred, truth)
+    mapping = place_to_room(pred, truth)
+    room_pred = np.array([mapping[int(p)] for p in pred])
+    out = {}
+    for room in np.unique(truth).tolist():
+        t, p = truth == room, room_pred == room
+        d, b, c = int((t & p).sum()), int((~t & p).sum()), int((t & ~p).sum())
+        a = int(len(truth) - b - c - d)
+        out[int(room)] = {"a": a, "b": b, "c": c, "d": d, "AC": (a + d) / len(truth),
+                          "TP": d / (c + d) if c + d else 0.0, "P": d / (b + d) if b + d else 0.0}
+    return out
+
+
+def score(pred: np.ndarray, truth: np.ndarray, localized: np.ndarray | None = None
+          ) -> dict[str, float]:
+    """All scalar metrics of the module docstring.
+
+    Args:
+        pred: place id per frame, -1 for unknown.
+        truth: room id per frame.
+        localized: boolean mask of the frames the method localised itself (default: all).
+    """
+    pred, truth = _check(pred, truth)
+    p, r = precision(pred, truth), recall(pred, truth)
+    mask = np.ones(len(pred), bool) if localized is None else np.asarray(localized, bool)
+    conf = confusion_table(pred, truth)
+    return {
+        "precision": p,
+        "recall": r,
+        "f_measure": 2 * p * r / (p + r) if p + r else 0.0,
+        "nmi": float(normalized_mutual_info_score(truth, pred)),
+        "ari": float(adjusted_rand_score(truth, pred)),
+        "n_places": int(len(np.unique(pred[pred >= 0]))),
+        "n_rooms": int(len(np.unique(truth))),
+        "unknown_rate": float((pred < 0).mean()),
+        "matching_rate": precision(pred[mask], truth[mask]) if mask.any() else 0.0,
+        "mean_AC": float(np.mean([c["AC"] for c in conf.values()])),
+        "mean_TP": float(np.mean([c["TP"] for c in conf.values()])),
+        "mean_P": float(np.mean([c["P"] for c in conf.values()])),
+    }
+
+
+def latency_summary(seconds: np.ndarray) -> dict[str, float]:
+    """Median, 95th percentile and mean per-frame latency in milliseconds."""
+    ms = np.asarray(seconds, float) * 1000.0
+    if ms.size == 0:
+        return {"ms_per_frame": 0.0, "ms_p95": 0.0, "ms_mean": 0.0}
+    return {"ms_per_frame": float(np.median(ms)), "ms_p95": float(np.percentile(ms, 95)),
+            "ms_mean": float(ms.mean())}

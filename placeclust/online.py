@@ -1,0 +1,183 @@
+"""Online sequential place clustering: seed 000 (Tang, Hamami, Karasfi, Nakhaeinia), Sec. IV."""
+
+from __future__ import annotations
+
+import networkx as nx
+import numpy as np
+
+from placeclust.features import FeatureExtractor
+from placeclust.frames import to_gray
+from placeclust.index import PlaceIndex
+from placeclust.kernel import UnionKernel
+from placeclust.matching import dice_eq4, normalize
+
+UNKNOWN = -1
+
+
+class OnlinePlaceClustering:
+    """Unsupervised, online place recognition with union-of-features kernels.
+
+    Each frame's local features are compared with the kernels of the current place and its
+    neighbours in the topological graph (Sec. IV, step 4). Eq. 4 is a similarity (the Dice
+    coefficient of matched features) although the text calls it a distance and compares its
+    *minimum* with the thresholds, so this class uses ``distance = 1 - Eq. 4``, which keeps the
+    paper's ordering ``T_Update_Cluster < T_New_Cluster < 1`` (steps 5-8):
+
+    - ``distance > t_new_cluster``: a new place, connected to the current one (step 6);
+    - ``t_new_cluster >= distance > t_update_cluster``: the place's kernel absorbs the frame
+      (``Union_Of_Cluster``, step 7);
+    - ``distance <= t_update_cluster``: the frame is recognised, the kernel is left as it is
+      (step 8).
+
+    The paper does not say what happens when the robot returns to a known place that is not a
+    neighbour of the current one (a loop); restricted to neighbours, it would open a duplicate
+    place. Here, when no neighbour is within ``t_new_cluster``, the frame is relocalized
+    against the whole map through a :class:`~placeclust.index.PlaceIndex` (the ``shortlist``
+    places with most votes are checked with Eq. 4); if one is within ``t_new_cluster`` the
+    robot is placed there and an edge closes the loop. ``relocalize=False`` gives the paper's
+    neighbour-only search.
+
+    Frames with fewer than ``min_features`` features (a black image, a blank wall) are
+    featureless: they are reported as :data:`UNKNOWN` (-1) and change nothing.
+
+    Args:
+        features: local feature type, see :mod:`placeclust.features` (the paper uses SURF-64).
+        max_features: features kept per frame.
+        t_new_cluster: ``T_New_Cluster`` on ``1 - Eq. 4``.
+        t_update_cluster: ``T_Update_Cluster`` on ``1 - Eq. 4``.
+        kernel_capacity: the most features a kernel keeps (Sec. III.B pruning).
+        ratio: Lowe's ratio for correspondences (Eq. 3).
+        relocalize: search the whole map when no neighbour matches (see above).
+        shortlist: places checked exactly after an index query.
+        index_features: features per place in the relocalization index.
+        min_features: fewer features than this make a frame featureless.
+
+    Example:
+        >>> import numpy as np
+        >>> from placeclust import OnlinePlaceClustering
+        >>> rng = np.random.default_rng(0)
+        >>> frame = (rng.random((64, 256)) * 255).astype(np.uint8)
+        >>> model = OnlinePlaceClustering(features="orb")
+        >>> model.learn_predict_one(frame), model.learn_predict_one(frame)
+        (0, 0)
+    """
+
+    def __init__(
+        self,
+        features: str = "sift",
+        max_features: int = 500,
+        t_new_cluster: float = 0.88,
+        t_update_cluster: float = 0.6,
+        kernel_capacity: int = 1200,
+        ratio: float = 0.8,
+        relocalize: bool = True,
+        shortlist: int = 3,
+        index_features: int = 64,
+        min_features: int = 10,
+    ) -> None:
+        if not 0.0 <= t_update_cluster < t_new_cluster < 1.0:
+            raise ValueError(
+                "need 0 <= t_update_cluster < t_new_cluster < 1 (Sec. IV), got "
+                f"t_update_cluster={t_update_cluster}, t_new_cluster={t_new_cluster}")
+        self.features = features
+        self.max_features = max_features
+        self.t_new_cluster = t_new_cluster
+        self.t_update_cluster = t_update_cluster
+        self.kernel_capacity = kernel_capacity
+        self.ratio = ratio
+        self.relocalize = relocalize
+        self.shortlist = shortlist
+        self.index_features = index_features
+        self.min_features = min_features
+        self._extractor = FeatureExtractor(features, max_features)
+        self.kernels: dict[int, UnionKernel] = {}
+        self.graph = nx.Graph()
+        self.current: int = UNKNOWN
+        self.frame_shape: tuple[int, int] | None = None
+        self._index = PlaceIndex(self._extractor.binary, self._index_sample)
+
+    # -- river-style API ---------------------------------------------------------------------
+
+    def learn_one(self, frame: np.ndarray) -> None:
+        """Update the map with one frame (Sec. IV, steps 1-8)."""
+        self.learn_predict_one(frame)
+
+    def predict_one(self, frame: np.ndarray) -> int:
+        """The place of ``frame`` without changing the map, or :data:`UNKNOWN`."""
+        desc = self._describe(frame)
+        if desc is None or not self.kernels:
+            return UNKNOWN
+        place, distance, _ = self._nearest(desc)
+        return place if distance <= self.t_new_cluster else UNKNOWN
+
+    def learn_predict_one(self, frame: np.ndarray) -> int:
+        """Learn from ``frame`` and return its place id (step 9), or :data:`UNKNOWN`."""
+        desc = self._describe(frame)
+        if desc is None:
+            return UNKNOWN
+        if not self.kernels:
+            return self._new_place(desc)
+        place, distance, matches = self._nearest(desc)
+        if distance > self.t_new_cluster:
+            return self._new_place(desc)
+        if place != self.current and self.current != UNKNOWN:
+            self.graph.add_edge(self.current, place)  # a loop closure when they were not adjacent
+        if distance > self.t_update_cluster:
+            self.kernels[place].update(desc, matches)
+            self.graph.nodes[place]["n_images"] += 1
+        self.current = place
+        return place
+
+    @property
+    def n_places(self) -> int:
+        return len(self.kernels)
+
+    # -- internals ------------------------------------------------------------------------------
+
+    def _describe(self, frame: np.ndarray) -> np.ndarray | None:
+        gray = to_gray(frame)
+        if self.frame_shape is None:
+            self.frame_shape = gray.shape
+        elif gray.shape != self.frame_shape:
+            raise ValueError(f"frame of size {gray.shape} differs from the {self.frame_shape} "
+                             "frames this map was built from")
+        feats = self._extractor.extract(gray)
+        if len(feats) < self.min_features:
+            return None
+        return normalize(feats.descriptors, feats.binary)
+
+    def _distance(self, place: int, desc: np.ndarray) -> tuple[float, tuple]:
+        kernel = self.kernels[place]
+        matches = kernel.match(desc)
+        return 1.0 - dice_eq4(len(matches[0]), len(kernel), len(desc)), matches
+
+    def _nearest(self, desc: np.ndarray) -> tuple[int, float, tuple]:
+        """Best place among the current one and its neighbours, then the whole map if needed."""
+        if self.current == UNKNOWN:
+            candidates = list(self.kernels)
+        else:
+            candidates = [self.current, *self.graph.neighbors(self.current)]
+        best = min(((p, *self._distance(p, desc)) for p in candidates), key=lambda r: r[1])
+        if best[1] > self.t_new_cluster and self.relocalize:
+            votes = self._index.votes(desc)
+            ranked = sorted(votes, key=lambda p: (-votes[p], p))
+            others = [p for p in ranked if p not in candidates][: self.shortlist]
+            for p in others:
+                cand = (p, *self._distance(p, desc))
+                if cand[1] < best[1]:
+                    best = cand
+        return best
+
+    def _new_place(self, desc: np.ndarray) -> int:
+        place = len(self.kernels)
+        self.kernels[place] = UnionKernel(desc, self._extractor.binary, self.kernel_capacity,
+                                          self.ratio)
+        self.graph.add_node(place, n_images=1)
+        if self.current != UNKNOWN:
+            self.graph.add_edge(self.current, place)
+        self.current = place
+        self._index.add(place)
+        return place
+
+    def _index_sample(self, place: int) -> np.ndarray:
+        return self.kernels[place].top(self.index_features)
