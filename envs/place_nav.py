@@ -41,7 +41,7 @@ class PlaceNavEnv(gym.Env):
     | key | space | meaning |
     |-----|-------|---------|
     | ``panorama`` | ``Box(0, 255, (H, W, 3), uint8)`` | unwrapped 360° cylindrical panorama; the heading is the centre column, the robot's left at W/4 (see :mod:`envs.panorama`) |
-    | ``odometry`` | ``Box(-inf, inf, (2,), float32)`` | measured forward speed (m/s) and turn rate (rad/s) from the wheel encoders |
+    | ``odometry`` | ``Box(-10, 10, (2,), float32)`` | measured forward speed (m/s) and turn rate (rad/s) from the wheel encoders |
 
     ## Rewards
     +1 the first time in an episode the robot enters each room (the start room counts as
@@ -111,7 +111,7 @@ class PlaceNavEnv(gym.Env):
         self.action_space = spaces.Box(-1.0, 1.0, (2,), np.float32)
         self.observation_space = spaces.Dict({
             "panorama": spaces.Box(0, 255, (panorama_height, panorama_width, 3), np.uint8),
-            "odometry": spaces.Box(-np.inf, np.inf, (2,), np.float32),
+            "odometry": spaces.Box(-10.0, 10.0, (2,), np.float32),
         })
 
     @property
@@ -194,7 +194,8 @@ class PlaceNavEnv(gym.Env):
         self._panorama = self.renderer.panorama(self.data)
         return {
             "panorama": self._panorama,
-            "odometry": self.robot.velocity(self.data).astype(np.float32),
+            # clipped: a wheel spinning against a wall must not leave the declared space
+            "odometry": np.clip(self.robot.velocity(self.data), -10.0, 10.0).astype(np.float32),
         }
 
     def _info(self) -> dict[str, Any]:

@@ -27,7 +27,8 @@ LIGHTING = ("day", "cloudy", "night")
 # directional lights as (direction, diffuse RGB).
 _LIGHTS: dict[str, dict] = {
     "day": {"ambient": 0.35, "headlight": 0.25,
-            "sun": [((0.4, 0.3, -1.0), (0.55, 0.53, 0.48)), ((-0.5, -0.2, -1.0), (0.2, 0.2, 0.22))]},
+            "sun": [((0.4, 0.3, -1.0), (0.55, 0.53, 0.48)),
+                    ((-0.5, -0.2, -1.0), (0.2, 0.2, 0.22))]},
     "cloudy": {"ambient": 0.45, "headlight": 0.2,
                "sun": [((0.0, 0.0, -1.0), (0.3, 0.32, 0.36))]},
     "night": {"ambient": 0.12, "headlight": 0.35,

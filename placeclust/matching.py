@@ -52,18 +52,25 @@ def knn2(query: np.ndarray, train: np.ndarray, binary: bool) -> tuple[np.ndarray
     return dist, idx
 
 
-def ratio_matches(query: np.ndarray, train: np.ndarray, binary: bool, ratio: float = 0.8,
-                  max_distance: float = 0.7) -> tuple[np.ndarray, np.ndarray]:
+#: (max_distance, sure_distance) per descriptor kind. Unit float vectors of unrelated features
+#: lie ~1.0-1.3 apart; 256-bit binary ones differ in ~half their bits (0.5), their nearest of a
+#: few hundred in ~0.3, so binary thresholds must be far tighter.
+DISTANCES = {False: (0.7, 0.35), True: (0.25, 0.1)}
+
+
+def ratio_matches(query: np.ndarray, train: np.ndarray, binary: bool, ratio: float = 0.8
+                  ) -> tuple[np.ndarray, np.ndarray]:
     """Correspondences ``(query_idx, train_idx)`` by Eq. 3 with Lowe's ratio test.
 
     A nearest neighbour is kept when it is closer than ``ratio`` times the second nearest, or
-    when it is closer than ``max_distance / 2`` (an unmistakable match, which near-duplicate
-    features in a union kernel would otherwise fail the ratio test on), and never when it is
-    farther than ``max_distance``.
+    when it is closer than the *sure* distance of :data:`DISTANCES` (an unmistakable match,
+    which near-duplicate features in a union kernel would otherwise fail the ratio test on),
+    and never when it is farther than the *max* distance.
     """
+    max_distance, sure = DISTANCES[binary]
     dist, idx = knn2(query, train, binary)
     d1, d2 = dist[:, 0], dist[:, 1]
-    ok = (d1 <= max_distance) & ((d1 < ratio * d2) | (d1 < max_distance / 2))
+    ok = (d1 <= max_distance) & ((d1 < ratio * d2) | (d1 < sure))
     q = np.nonzero(ok)[0]
     return q, idx[q, 0]
 

@@ -66,7 +66,7 @@ class OnlinePlaceClustering:
         self,
         features: str = "sift",
         max_features: int = 500,
-        t_new_cluster: float = 0.88,
+        t_new_cluster: float = 0.85,
         t_update_cluster: float = 0.6,
         kernel_capacity: int = 1200,
         ratio: float = 0.8,

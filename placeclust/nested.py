@@ -1,0 +1,214 @@
+"""Nested two-level topological mapper: seed 001 (Elgayar, Salem, Roushdy), Sec. 4."""
+
+from __future__ import annotations
+
+import networkx as nx
+import numpy as np
+
+from placeclust.features import FeatureExtractor
+from placeclust.frames import to_gray
+from placeclust.index import PlaceIndex
+from placeclust.matching import normalize, ratio_matches
+from placeclust.wavelet import haar_signature, signature_similarity
+
+UNKNOWN = -1
+
+
+class Location:
+    """A global node: tracked SIFT points with their missed counts ``C`` (Sec. 4.4)."""
+
+    def __init__(self, descriptors: np.ndarray) -> None:
+        self.descriptors = descriptors
+        self.missed = np.zeros(len(descriptors), np.int64)
+        self.views: list[np.ndarray] = []  # one Haar signature per view (the local level)
+        self.n_keyframes = 0
+
+    def track(self, descriptors: np.ndarray, img_idx: np.ndarray, loc_idx: np.ndarray,
+              max_missed: int, capacity: int) -> None:
+        """Feature tracking maintenance and termination (Sec. 4.4) for one assigned key frame.
+
+        Matched points become active (``C = 0``), unmatched points of the location are missed
+        once more (``C += 1``) and terminated at ``C >= max_missed``; the key frame's unmatched
+        points join with ``C = 0``. ``capacity`` bounds the node, oldest-missed first out.
+        """
+        self.missed += 1
+        self.missed[loc_idx] = 0
+        new = np.setdiff1d(np.arange(len(descriptors)), img_idx)
+        self.descriptors = np.concatenate([self.descriptors, descriptors[new]])
+        self.missed = np.concatenate([self.missed, np.zeros(len(new), np.int64)])
+        keep = self.missed < max_missed
+        if keep.sum() > capacity:
+            keep &= self.missed <= np.sort(self.missed[keep])[capacity - 1]
+            keep[np.nonzero(keep)[0][capacity:]] = False
+        self.descriptors, self.missed = self.descriptors[keep], self.missed[keep]
+
+
+class NestedMapper:
+    """Two-level topological SLAM: locations of tracked SIFT points, views by wavelet signature.
+
+    Per frame (Sec. 4.2-4.5): a frame is a *key frame* when its mean absolute grey-level
+    difference to the last key frame exceeds ``keyframe_threshold`` (0.08, on [0, 1] pixels);
+    other frames keep the last localization. A key frame's SIFT points are matched with every
+    location's points; the ``rank`` best locations are ranked by matches (found through a
+    :class:`~placeclust.index.PlaceIndex` shortlist, so the cost does not grow with the map),
+    and the frame joins the best one if it has at least ``min_matches`` (25) matches, else opens
+    a new location linked to the last visited one. Inside the location, the frame's level-4
+    Haar signature is compared with the location's views: similarity at least
+    ``view_similarity`` (0.96) localises it in that view, else it opens a new view linked to the
+    last visited view.
+
+    The paper leaves the termination limit ``N`` open; ``max_missed`` = 8 key frames here.
+
+    Args:
+        features: local features (the paper uses SIFT).
+        max_features: features per frame.
+        keyframe_threshold: "Next Increase" threshold on the mean absolute difference.
+        min_matches: matches needed to recognise a location.
+        rank: best locations ranked per key frame.
+        view_similarity: wavelet signature similarity needed to recognise a view.
+        wavelet_level: Haar decomposition level (4 in the paper).
+        max_missed: ``N``, misses before a point's tracking is terminated.
+        location_capacity: the most points a location keeps.
+        ratio: Lowe's ratio for correspondences.
+    """
+
+    def __init__(
+        self,
+        features: str = "sift",
+        max_features: int = 500,
+        keyframe_threshold: float = 0.08,
+        min_matches: int = 25,
+        rank: int = 3,
+        view_similarity: float = 0.96,
+        wavelet_level: int = 4,
+        max_missed: int = 8,
+        location_capacity: int = 1500,
+        ratio: float = 0.8,
+    ) -> None:
+        self.features = features
+        self.max_features = max_features
+        self.keyframe_threshold = keyframe_threshold
+        self.min_matches = min_matches
+        self.rank = rank
+        self.view_similarity = view_similarity
+        self.wavelet_level = wavelet_level
+        self.max_missed = max_missed
+        self.location_capacity = location_capacity
+        self.ratio = ratio
+        self._extractor = FeatureExtractor(features, max_features)
+        self.locations: dict[int, Location] = {}
+        self.graph = nx.Graph()  # level 1: locations
+        self.view_graphs: dict[int, nx.Graph] = {}  # level 2: views of each location
+        self.current: tuple[int, int] = (UNKNOWN, UNKNOWN)
+        self.last_was_keyframe = False
+        self.frame_shape: tuple[int, int] | None = None
+        self._last_key: np.ndarray | None = None
+        self._index = PlaceIndex(self._extractor.binary, self._index_sample)
+
+    @property
+    def n_places(self) -> int:
+        return len(self.locations)
+
+    def learn_one(self, frame: np.ndarray) -> None:
+        """Update the two-level map with one frame."""
+        self.localize(frame)
+
+    def learn_predict_one(self, frame: np.ndarray) -> int:
+        """Learn from ``frame`` and return its location id (the high level), or -1."""
+        return self.localize(frame)[0]
+
+    def predict_one(self, frame: np.ndarray) -> int:
+        """The best location of ``frame`` without changing the map, or -1."""
+        desc = self._describe(to_gray(frame))
+        if len(desc) == 0 or not self.locations:
+            return UNKNOWN
+        loc, n = self._best_location(desc)
+        return loc if n >= self.min_matches else UNKNOWN
+
+    def localize(self, frame: np.ndarray) -> tuple[int, int]:
+        """Two-level localization (Sec. 4.6) of ``frame``, learning as it goes.
+
+        Returns:
+            ``(location, view)``; non-key frames return the last localization.
+        """
+        gray = to_gray(frame)
+        if self.frame_shape is None:
+            self.frame_shape = gray.shape
+        elif gray.shape != self.frame_shape:
+            raise ValueError(f"frame of size {gray.shape} differs from the {self.frame_shape} "
+                             "frames this map was built from")
+        self.last_was_keyframe = self._is_keyframe(gray)
+        if not self.last_was_keyframe:
+            return self.current
+        self._last_key = gray
+        desc = self._describe(gray)
+        if len(desc) < 2:
+            return self.current  # featureless: nothing to track or recognise
+        loc = self._locate(desc)
+        view = self._place_view(loc, haar_signature(gray, self.wavelet_level))
+        self.current = (loc, view)
+        return self.current
+
+    # -- global level ---------------------------------------------------------------------------
+
+    def _is_keyframe(self, gray: np.ndarray) -> bool:
+        if self._last_key is None:
+            return True
+        diff = np.abs(gray.astype(np.int16) - self._last_key.astype(np.int16)).mean() / 255.0
+        return diff > self.keyframe_threshold
+
+    def _describe(self, gray: np.ndarray) -> np.ndarray:
+        feats = self._extractor.extract(gray)
+        return normalize(feats.descriptors, feats.binary)
+
+    def _matches(self, loc: int, desc: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        return ratio_matches(desc, self.locations[loc].descriptors, self._extractor.binary,
+                             self.ratio)
+
+    def _best_location(self, desc: np.ndarray) -> tuple[int, int]:
+        votes = self._index.votes(desc)
+        last = self.current[0]
+        ranked = sorted(votes, key=lambda p: (-votes[p], p))[: self.rank]
+        if last != UNKNOWN and last not in ranked:
+            ranked.append(last)
+        counts = [(len(self._matches(p, desc)[0]), p) for p in ranked]
+        n, loc = max(counts, default=(0, UNKNOWN))
+        return loc, n
+
+    def _locate(self, desc: np.ndarray) -> int:
+        loc, n = self._best_location(desc) if self.locations else (UNKNOWN, 0)
+        last = self.current[0]
+        if n < self.min_matches:
+            loc = len(self.locations)
+            self.locations[loc] = Location(desc.copy())
+            self.graph.add_node(loc)
+            self.view_graphs[loc] = nx.Graph()
+            self._index.add(loc)
+        else:
+            img_idx, loc_idx = self._matches(loc, desc)
+            self.locations[loc].track(desc, img_idx, loc_idx, self.max_missed,
+                                      self.location_capacity)
+        if last != UNKNOWN and last != loc:
+            self.graph.add_edge(last, loc)
+        self.locations[loc].n_keyframes += 1
+        return loc
+
+    def _index_sample(self, loc: int) -> np.ndarray:
+        location = self.locations[loc]
+        return location.descriptors[np.argsort(location.missed, kind="stable")[:64]]
+
+    # -- local level -----------------------------------------------------------------------------
+
+    def _place_view(self, loc: int, signature: np.ndarray) -> int:
+        views = self.locations[loc].views
+        sims = [signature_similarity(signature, v) for v in views]
+        last_loc, last_view = self.current
+        if sims and max(sims) >= self.view_similarity:
+            view = int(np.argmax(sims))
+        else:
+            view = len(views)
+            views.append(signature)
+            self.view_graphs[loc].add_node(view)
+        if last_loc == loc and last_view not in (UNKNOWN, view):
+            self.view_graphs[loc].add_edge(last_view, view)
+        return view

@@ -1,0 +1,34 @@
+import json
+import subprocess
+import sys
+
+import numpy as np
+
+
+def test_cluster_cli_writes_consistent_metrics(tmp_path, two_places):
+    frames, truth = two_places
+    np.savez(tmp_path / "tour.npz", frames=frames, room=truth, pose=np.zeros((len(truth), 3)))
+    out = tmp_path / "res"
+    proc = subprocess.run([sys.executable, "-m", "placeclust.cli", "cluster", "--algo", "online",
+                           "--features", "orb", "--tour", str(tmp_path / "tour.npz"), "--out",
+                           str(out), "--quiet"], capture_output=True, text=True, check=True)
+    assert "precision" in proc.stdout
+    metrics = json.loads((out / "metrics.json").read_text())
+    assign = np.load(out / "assignments.npy")
+    assert len(assign) == len(truth)
+    assert metrics["n_places"] == len(np.unique(assign[assign >= 0]))
+    assert {"precision", "recall", "nmi", "ari", "n_places", "n_rooms", "ms_per_frame"} <= set(
+        metrics)
+
+
+def test_cluster_cli_names_bad_input(tmp_path):
+    def cli(*args):
+        return subprocess.run([sys.executable, "-m", "placeclust.cli", "cluster", *args,
+                               "--out", str(tmp_path / "o")], capture_output=True, text=True)
+
+    missing = cli("--tour", str(tmp_path / "nope.npz"))
+    assert missing.returncode != 0 and "does not exist" in missing.stderr
+    np.savez(tmp_path / "bad.npz", frames=np.zeros((3, 8)), room=np.zeros(3))
+    bad = cli("--tour", str(tmp_path / "bad.npz"))
+    assert bad.returncode != 0 and "'frames' must be uint8" in bad.stderr
+    assert not (tmp_path / "o").exists()

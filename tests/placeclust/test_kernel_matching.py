@@ -1,0 +1,51 @@
+import numpy as np
+
+from placeclust.kernel import UnionKernel
+from placeclust.matching import dice_eq4, knn2, ratio_matches, similarity_eq1
+
+
+def unit(rng, n, d=16):
+    x = rng.normal(size=(n, d)).astype(np.float32)
+    return x / np.linalg.norm(x, axis=1, keepdims=True)
+
+
+def test_union_kernel_weights_after_a_known_sequence():
+    rng = np.random.default_rng(0)
+    a = unit(rng, 5)
+    b = np.concatenate([a[:3], unit(rng, 2)])  # 3 features seen again, 2 new
+    k = UnionKernel(a, binary=False)
+    k.update(b)
+    assert len(k) == 7
+    np.testing.assert_array_equal(k.weights, [2, 2, 2, 1, 1, 1, 1])
+    k.update(b)
+    np.testing.assert_array_equal(k.weights, [3, 3, 3, 1, 1, 2, 2])
+
+
+def test_kernel_is_pruned_to_capacity_keeping_heavy_features():
+    rng = np.random.default_rng(1)
+    a = unit(rng, 6)
+    k = UnionKernel(a, binary=False, capacity=8)
+    k.update(np.concatenate([a[:2], unit(rng, 6)]))
+    assert len(k) == 8
+    assert k.weights.max() == 2 and (k.weights == 2).sum() == 2
+
+
+def test_ratio_matches_and_eq1_eq4():
+    rng = np.random.default_rng(2)
+    a = unit(rng, 20)
+    q, t = ratio_matches(a, a, binary=False)
+    np.testing.assert_array_equal(q, t)
+    assert len(q) == 20
+    assert similarity_eq1(a, a, False) > 0.999
+    assert dice_eq4(10, 20, 20) == 0.5 and dice_eq4(0, 0, 0) == 0.0
+    dist, idx = knn2(a[:3], a[:1], False)  # a single train row: no second neighbour
+    assert np.all(idx[:, 1] == -1) and np.all(np.isinf(dist[:, 1]))
+
+
+def test_binary_matching():
+    rng = np.random.default_rng(3)
+    a = rng.integers(0, 256, (30, 32), dtype=np.uint8)
+    q, t = ratio_matches(a, a, binary=True)
+    np.testing.assert_array_equal(q, t)
+    dist, idx = knn2(a[:2], a[:1], True)
+    assert idx[0, 0] == 0 and np.isinf(dist[0, 1])

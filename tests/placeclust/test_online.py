@@ -1,0 +1,86 @@
+import pickle
+
+import numpy as np
+import pytest
+
+from placeclust import UNKNOWN, OnlinePlaceClustering
+from placeclust.metrics import precision
+
+
+@pytest.mark.parametrize("features", ["sift", "orb"])
+def test_two_textures_form_two_places(two_places, features):
+    frames, truth = two_places
+    model = OnlinePlaceClustering(features=features)
+    pred = np.array([model.learn_predict_one(f) for f in frames])
+    assert model.n_places == 2
+    assert precision(pred, truth) == 1.0
+    assert model.graph.has_edge(0, 1)  # the new place is linked to the one it came from
+
+
+def test_the_same_frame_twice_is_one_place(two_places):
+    model = OnlinePlaceClustering()
+    frame = two_places[0][0]
+    assert model.learn_predict_one(frame) == model.learn_predict_one(frame) == 0
+    assert model.n_places == 1
+
+
+def test_revisiting_a_non_neighbour_closes_a_loop(two_places):
+    frames, _ = two_places
+    from tests.placeclust.conftest import textured
+
+    model = OnlinePlaceClustering()
+    for f in (frames[0], frames[25], textured(3), textured(4), frames[1]):
+        last = model.learn_predict_one(f)
+    assert last == 0 and model.n_places == 4  # back in place 0, not a duplicate
+    assert model.graph.has_edge(3, 0)
+    assert OnlinePlaceClustering(relocalize=False).relocalize is False
+
+
+def test_predict_one_does_not_learn(two_places):
+    frames, _ = two_places
+    model = OnlinePlaceClustering()
+    model.learn_one(frames[0])
+    assert model.predict_one(frames[30]) == UNKNOWN
+    assert model.n_places == 1
+
+
+def test_featureless_frames_are_unknown_and_change_nothing():
+    model = OnlinePlaceClustering()
+    assert model.learn_predict_one(np.zeros((128, 512, 3), np.uint8)) == UNKNOWN
+    assert model.learn_predict_one(np.full((128, 512), 200, np.uint8)) == UNKNOWN
+    assert model.n_places == 0
+
+
+@pytest.mark.parametrize("frame,match", [
+    (np.zeros((64, 256, 2), np.uint8), "shape"),
+    (np.zeros((64, 256), np.int32), "dtype"),
+    (np.full((64, 256), np.nan), "NaN"),
+    (np.full((64, 256), 3.0), r"\[0, 1\]"),
+    (np.zeros((8, 8), np.uint8), "too small"),
+    ([[1, 2], [3, 4]], "numpy array"),
+])
+def test_bad_frames_are_refused(frame, match):
+    with pytest.raises(ValueError, match=match):
+        OnlinePlaceClustering().learn_one(frame)
+
+
+def test_frames_of_another_size_are_refused(two_places):
+    model = OnlinePlaceClustering()
+    model.learn_one(two_places[0][0])
+    with pytest.raises(ValueError, match="differs"):
+        model.learn_one(np.zeros((32, 128, 3), np.uint8))
+
+
+def test_thresholds_must_be_ordered():
+    with pytest.raises(ValueError, match="t_update_cluster < t_new_cluster"):
+        OnlinePlaceClustering(t_new_cluster=0.5, t_update_cluster=0.7)
+
+
+def test_model_pickles_with_its_map(two_places):
+    frames, _ = two_places
+    model = OnlinePlaceClustering(features="orb")
+    for f in frames[::4]:
+        model.learn_one(f)
+    clone = pickle.loads(pickle.dumps(model))
+    assert clone.n_places == model.n_places
+    assert clone.predict_one(frames[1]) == model.predict_one(frames[1])
