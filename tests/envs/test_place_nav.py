@@ -137,9 +137,10 @@ def test_render_shows_the_building_and_panorama(make_env):
 
 
 def test_async_vector_env():
+    # spawn: workers forked from a process that already holds EGL contexts deadlock in Mesa
     envs_ = gym.vector.AsyncVectorEnv([
-        lambda: gym.make("PlaceNav-v0", panorama_width=128, panorama_height=32)
-        for _ in range(2)])
+        lambda: gym.make("envs:PlaceNav-v0", panorama_width=128, panorama_height=32)
+        for _ in range(2)], context="spawn")
     try:
         obs, info = envs_.reset(seed=[0, 1])
         assert obs["panorama"].shape == (2, 32, 128, 3)
