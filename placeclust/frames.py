@@ -44,6 +44,18 @@ def to_gray(frame: np.ndarray) -> np.ndarray:
     return np.ascontiguousarray(img)
 
 
+def check_size(gray: np.ndarray, expected: tuple[int, int] | None) -> tuple[int, int]:
+    """The size a map is built from: ``expected``, or ``gray``'s for the first frame.
+
+    Raises:
+        ValueError: ``gray`` has another size than the frames the map was built from.
+    """
+    if expected is not None and gray.shape != expected:
+        raise ValueError(f"frame of size {gray.shape} differs from the {expected} "
+                         "frames this map was built from")
+    return gray.shape
+
+
 def check_sequence(frames: np.ndarray) -> np.ndarray:
     """Validate a sequence ``(T, H, W[, C])`` of frames for the offline methods."""
     if not isinstance(frames, np.ndarray) or frames.ndim not in (3, 4):

@@ -6,7 +6,7 @@ import networkx as nx
 import numpy as np
 
 from placeclust.features import FeatureExtractor
-from placeclust.frames import to_gray
+from placeclust.frames import check_size, to_gray
 from placeclust.index import PlaceIndex
 from placeclust.matching import normalize, ratio_matches
 from placeclust.wavelet import haar_signature, signature_similarity
@@ -132,11 +132,7 @@ class NestedMapper:
             ``(location, view)``; non-key frames return the last localization.
         """
         gray = to_gray(frame)
-        if self.frame_shape is None:
-            self.frame_shape = gray.shape
-        elif gray.shape != self.frame_shape:
-            raise ValueError(f"frame of size {gray.shape} differs from the {self.frame_shape} "
-                             "frames this map was built from")
+        self.frame_shape = check_size(gray, self.frame_shape)
         self.last_was_keyframe = self._is_keyframe(gray)
         if not self.last_was_keyframe:
             return self.current

@@ -6,7 +6,7 @@ import networkx as nx
 import numpy as np
 
 from placeclust.features import FeatureExtractor
-from placeclust.frames import to_gray
+from placeclust.frames import check_size, to_gray
 from placeclust.index import PlaceIndex
 from placeclust.kernel import UnionKernel
 from placeclust.matching import dice_eq4, normalize
@@ -136,11 +136,7 @@ class OnlinePlaceClustering:
 
     def _describe(self, frame: np.ndarray) -> np.ndarray | None:
         gray = to_gray(frame)
-        if self.frame_shape is None:
-            self.frame_shape = gray.shape
-        elif gray.shape != self.frame_shape:
-            raise ValueError(f"frame of size {gray.shape} differs from the {self.frame_shape} "
-                             "frames this map was built from")
+        self.frame_shape = check_size(gray, self.frame_shape)
         feats = self._extractor.extract(gray)
         if len(feats) < self.min_features:
             return None
