@@ -6,7 +6,7 @@ PY := $(VENV)/bin/python
 PIP := $(PY) -m pip
 export MUJOCO_GL ?= egl
 
-.PHONY: demo test lint bench-env clean
+.PHONY: demo test lint bench-env bench-latency train eval clean
 
 $(VENV)/.installed: pyproject.toml
 	$(PYTHON) -m venv $(VENV)
@@ -24,6 +24,16 @@ test: $(VENV)/.installed
 
 bench-env: $(VENV)/.installed
 	$(PY) -m envs.benchmark
+
+bench-latency: $(VENV)/.installed
+	$(PY) -m placeclust.benchmark latency
+
+# reproduces assets/policies/ppo_place.zip (the other agents: --agent noplace / oracle)
+train: $(VENV)/.installed
+	$(PY) -m train.train --agent place --seed 0 --map assets/policies
+
+eval: $(VENV)/.installed
+	$(PY) -m train.evaluate --agent all --episodes 50 --seed 1000
 
 clean:
 	rm -rf $(VENV) runs .pytest_cache .ruff_cache

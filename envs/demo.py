@@ -4,7 +4,10 @@
 
 - ``tour.npz``: the recorded frames with ground truth;
 - ``floorplan.png``: rooms, names, doors, furniture and the path;
-- ``map.png``: the path coloured by the place the online recognizer (seed 000) reported;
+- ``map.png``: the path coloured by the place the online recognizer (seed 000) reported, and
+  its topological graph between the places' centroids;
+- ``confusion.png``: frames per place and ground-truth room;
+- ``tour.gif``: the panoramas over time with the current place and room written on them;
 - ``panoramas.png``: a panorama from every room;
 - ``report.md``: metrics of the online recognizer and the nested mapper (seed 001) against
   ground truth, also printed on the terminal.
@@ -16,12 +19,11 @@ import json
 from pathlib import Path
 
 import gymnasium as gym
-import imageio.v3 as iio
-import matplotlib.pyplot as plt
 import numpy as np
 
 import envs  # noqa: F401 - registers PlaceNav-v0
-from envs.floorplan import draw_floor_plan, save_floor_plan
+from envs.figures import save_confusion, save_panoramas, save_place_map, save_tour_gif
+from envs.floorplan import save_floor_plan
 from envs.layout import FloorPlan
 from envs.tour import Tour, drive_tour
 
@@ -37,39 +39,6 @@ def record_tour(scene_seed: int, n_rooms: int, steps: int, seed: int = 0, width:
         return tour, env.unwrapped.plan
     finally:
         env.close()
-
-
-def save_place_map(plan: FloorPlan, poses: np.ndarray, places: np.ndarray, path: str,
-                   title: str) -> None:
-    """The floor plan with each frame's position coloured by its place id."""
-    fig, ax = plt.subplots(figsize=(7, 6))
-    draw_floor_plan(ax, plan, room_colors=False)
-    known = places >= 0
-    cmap = plt.get_cmap("tab20")
-    ax.scatter(poses[known, 0], poses[known, 1], c=cmap(places[known] % 20), s=6, zorder=5)
-    ax.scatter(poses[~known, 0], poses[~known, 1], c="k", marker="x", s=8, zorder=5)
-    for p in np.unique(places[known]):
-        xy = poses[places == p, :2].mean(axis=0)
-        ax.text(*xy, f"P{p}", fontsize=9, weight="bold", color=cmap(p % 20), zorder=6,
-                bbox=dict(facecolor="white", alpha=0.7, lw=0))
-    ax.set_title(title)
-    fig.tight_layout()
-    fig.savefig(path, dpi=110)
-    plt.close(fig)
-
-
-def save_panoramas(tour: Tour, path: str) -> None:
-    """One panorama from the middle of each room's first visit, stacked, labelled by room."""
-    import cv2
-
-    rows = []
-    for room in np.unique(tour.room[tour.room >= 0]):
-        idx = np.nonzero(tour.room == room)[0]
-        frame = tour.frames[idx[len(idx) // 2]].copy()
-        cv2.putText(frame, tour.room_names[room], (6, 18), cv2.FONT_HERSHEY_SIMPLEX, 0.55,
-                    (255, 255, 255), 2, cv2.LINE_AA)
-        rows.append(frame)
-    iio.imwrite(path, np.concatenate(rows, axis=0))
 
 
 def run_demo(out: str, scene_seed: int = 0, n_rooms: int = 4, steps: int = 1000,
@@ -92,8 +61,12 @@ def run_demo(out: str, scene_seed: int = 0, n_rooms: int = 4, steps: int = 1000,
         results[algo] = run(algo, tour.frames, "sift", progress=True)
         table[label] = evaluate(results[algo], tour.room)
         np.save(folder / f"assignments_{algo}.npy", results[algo].assignments)
-    save_place_map(plan, tour.pose, results["online"].assignments, str(folder / "map.png"),
-                   "places found online (seed 000), coloured per place")
+    online = results["online"].assignments
+    save_place_map(plan, tour.pose, online, str(folder / "map.png"),
+                   "places found online (seed 000) and their graph", results["online"].model.graph)
+    save_confusion(online, tour.room, tour.room_names, str(folder / "confusion.png"),
+                   "online (seed 000): frames per place and room")
+    save_tour_gif(tour, online, str(folder / "tour.gif"))
     text = format_table(table)
     (folder / "report.md").write_text(
         f"# placeclust demo\n\nScene seed {scene_seed}, {n_rooms} rooms, {steps} frames of "

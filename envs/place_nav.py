@@ -13,7 +13,7 @@ from gymnasium import spaces
 from envs.layout import FloorPlan
 from envs.panorama import PanoramaGeometry
 from envs.rendering import SceneRenderer
-from envs.robot import MAX_SPEED, MAX_TURN, Robot, check_action
+from envs.robot import MAX_RANGE, MAX_SPEED, MAX_TURN, N_RANGES, Robot, check_action
 from envs.scene import LIGHTING, Scene, build_scene
 
 
@@ -42,6 +42,10 @@ class PlaceNavEnv(gym.Env):
     |-----|-------|---------|
     | ``panorama`` | ``Box(0, 255, (H, W, 3), uint8)`` | unwrapped 360° cylindrical panorama; the heading is the centre column, the robot's left at W/4 (see :mod:`envs.panorama`) |
     | ``odometry`` | ``Box(-10, 10, (2,), float32)`` | measured forward speed (m/s) and turn rate (rad/s) from the wheel encoders |
+    | ``heading`` | ``Box(-1, 1, (2,), float32)`` | compass: (cos, sin) of the heading |
+    | ``ranges`` | ``Box(0, 4, (16,), float32)`` | ring of rangefinders 0.3 m above the floor, m, counter-clockwise from ahead |
+
+    ``panorama=False`` leaves the panorama out and skips rendering, for agents that do not look.
 
     ## Rewards
     +1 the first time in an episode the robot enters each room (the start room counts as
@@ -66,6 +70,7 @@ class PlaceNavEnv(gym.Env):
     | ``n_cameras`` | 4 | cameras in the ring the panorama is stitched from |
     | ``extra_doors`` | 0.5 | fraction of non-tree walls with a door (loops); 0 gives a tree |
     | ``control_dt`` | 0.1 | seconds of simulation per step (physics runs at 5 ms) |
+    | ``panorama`` | ``True`` | render the panorama into the observation |
     | ``render_mode`` | ``None`` | ``"rgb_array"``: top-down view with the robot above the panorama |
 
     ``reset(options=...)`` accepts ``{"pose": (x, y, heading)}`` or ``{"room": name}`` to choose
@@ -88,6 +93,7 @@ class PlaceNavEnv(gym.Env):
         extra_doors: float = 0.5,
         control_dt: float = 0.1,
         render_mode: str | None = None,
+        panorama: bool = True,
     ) -> None:
         if render_mode is not None and render_mode not in self.metadata["render_modes"]:
             raise ValueError(f"render_mode must be one of {self.metadata['render_modes']} or None, "
@@ -97,6 +103,7 @@ class PlaceNavEnv(gym.Env):
         if not 0.005 <= control_dt <= 1.0:
             raise ValueError(f"control_dt must be in [0.005, 1] s, got {control_dt}")
         self.render_mode = render_mode
+        self._world = (scene_seed, n_rooms, extra_doors, n_cameras)
         self.geometry = PanoramaGeometry(panorama_width, panorama_height, n_cameras)
         self.scene: Scene = build_scene(scene_seed, n_rooms, lighting, n_cameras,
                                         self.geometry.fovy, extra_doors)
@@ -109,10 +116,23 @@ class PlaceNavEnv(gym.Env):
         self._panorama: np.ndarray | None = None
 
         self.action_space = spaces.Box(-1.0, 1.0, (2,), np.float32)
-        self.observation_space = spaces.Dict({
-            "panorama": spaces.Box(0, 255, (panorama_height, panorama_width, 3), np.uint8),
+        self.with_panorama = panorama
+        obs_spaces = {
             "odometry": spaces.Box(-10.0, 10.0, (2,), np.float32),
-        })
+            "heading": spaces.Box(-1.0, 1.0, (2,), np.float32),
+            "ranges": spaces.Box(0.0, MAX_RANGE, (N_RANGES,), np.float32),
+        }
+        if panorama:
+            shape = (panorama_height, panorama_width, 3)
+            obs_spaces = {"panorama": spaces.Box(0, 255, shape, np.uint8), **obs_spaces}
+        self.observation_space = spaces.Dict(obs_spaces)
+
+    @property
+    def world_id(self) -> str:
+        """Fingerprint of what a map depends on: the building and the camera, not the light."""
+        h, w = self.geometry.height, self.geometry.width
+        return (f"PlaceNav scene_seed={self._world[0]} n_rooms={self._world[1]} "
+                f"extra_doors={self._world[2]} panorama={w}x{h} n_cameras={self._world[3]}")
 
     @property
     def plan(self) -> FloorPlan:
@@ -191,12 +211,16 @@ class PlaceNavEnv(gym.Env):
         return x, y, float(self.np_random.uniform(-math.pi, math.pi))
 
     def _observation(self) -> dict[str, np.ndarray]:
-        self._panorama = self.renderer.panorama(self.data)
-        return {
-            "panorama": self._panorama,
+        obs = {
             # clipped: a wheel spinning against a wall must not leave the declared space
             "odometry": np.clip(self.robot.velocity(self.data), -10.0, 10.0).astype(np.float32),
+            "heading": self.robot.heading(self.data).astype(np.float32),
+            "ranges": self.robot.ranges(self.data).astype(np.float32),
         }
+        if self.with_panorama:
+            self._panorama = self.renderer.panorama(self.data)
+            obs["panorama"] = self._panorama
+        return obs
 
     def _info(self) -> dict[str, Any]:
         pose = self.robot.pose(self.data)

@@ -17,6 +17,8 @@ MAX_TURN = 1.5  # rad/s
 WHEEL_RADIUS = 0.05
 WHEEL_BASE = 0.32  # distance between the wheels
 RADIUS = 0.2  # footprint radius, for planning clearances
+N_RANGES = 16  # rangefinders in the ring, evenly spaced, the first looking ahead
+MAX_RANGE = 4.0  # m; farther (or nothing hit) reads as MAX_RANGE
 
 
 def wheel_speeds(action: np.ndarray) -> np.ndarray:
@@ -49,6 +51,8 @@ class Robot:
         self._qvel = self._root.dofadr[0]
         self._body = model.body("robot/base").id
         self._act = [model.actuator("robot/left_wheel").id, model.actuator("robot/right_wheel").id]
+        self._ranges = [model.sensor(f"range{k}").adr[0] for k in range(N_RANGES)]
+        self._wheels = [model.joint(f"robot/{side}_wheel").dofadr[0] for side in ("left", "right")]
 
     def place(self, data: mujoco.MjData, x: float, y: float, heading: float) -> None:
         """Put the robot at rest at (x, y) facing ``heading`` (radians from +x, CCW)."""
@@ -70,8 +74,21 @@ class Robot:
 
     def velocity(self, data: mujoco.MjData) -> np.ndarray:
         """(forward speed m/s, turn rate rad/s) in the robot frame, from wheel odometry."""
-        left = data.qvel[self.model.joint("robot/left_wheel").dofadr[0]]
-        right = data.qvel[self.model.joint("robot/right_wheel").dofadr[0]]
+        left, right = data.qvel[self._wheels]
         v = (left + right) * WHEEL_RADIUS / 2
         w = (right - left) * WHEEL_RADIUS / WHEEL_BASE
         return np.array([v, w])
+
+    def ranges(self, data: mujoco.MjData) -> np.ndarray:
+        """Distances (m) read by the ring of :data:`N_RANGES` rangefinders, CCW from ahead.
+
+        A ray that hits nothing within :data:`MAX_RANGE` (MuJoCo reports -1) reads MAX_RANGE.
+        """
+        r = data.sensordata[self._ranges]
+        return np.where((r < 0) | (r > MAX_RANGE), MAX_RANGE, r)
+
+    def heading(self, data: mujoco.MjData) -> np.ndarray:
+        """Compass reading (cos, sin) of the heading, as a magnetometer would give it."""
+        mat = data.xmat[self._body]
+        yaw = math.atan2(mat[3], mat[0])
+        return np.array([math.cos(yaw), math.sin(yaw)])

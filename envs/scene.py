@@ -18,6 +18,7 @@ import numpy as np
 
 from envs import textures
 from envs.layout import WALL_THICKNESS, FloorPlan, Room, Wall, generate_floor_plan
+from envs.robot import MAX_RANGE, N_RANGES, RADIUS
 
 WALL_HEIGHT = 2.2
 CAMERA_HEIGHT = 1.0
@@ -232,6 +233,25 @@ def _add_robot(spec: mujoco.MjSpec, n_cameras: int, fovy: float) -> tuple[str, .
         cam.alt.type = mujoco.mjtOrientation.mjORIENTATION_XYAXES
         cam.alt.xyaxes = [*right, 0.0, 0.0, 1.0]
         names.append(f"pano{k}")
+    _add_range_sites(base)
     frame = spec.worldbody.add_frame()
     frame.attach_body(base, "robot/", "")
+    for k in range(N_RANGES):
+        sensor = spec.add_sensor(name=f"range{k}", type=mujoco.mjtSensor.mjSENS_RANGEFINDER,
+                                 objtype=mujoco.mjtObj.mjOBJ_SITE, objname=f"robot/range{k}")
+        sensor.cutoff = MAX_RANGE
+        sensor.intprm[0] = 1 << int(mujoco.mjtRayDataField.mjRAYDATA_DIST)  # distance only
     return tuple(f"robot/{n}" for n in names)
+
+
+def _add_range_sites(base: mujoco.MjsBody) -> None:
+    """A ring of rangefinder sites above the chassis, range 0 looking ahead, then CCW.
+
+    At 0.3 m above the floor the rays clear the wheels and hit walls and every piece of furniture.
+    """
+    for k in range(N_RANGES):
+        yaw = 2 * math.pi * k / N_RANGES
+        c, s = math.cos(yaw), math.sin(yaw)
+        site = base.add_site(name=f"range{k}", pos=[RADIUS * c, RADIUS * s, 0.25])
+        site.alt.type = mujoco.mjtOrientation.mjORIENTATION_ZAXIS  # rangefinders look along +z
+        site.alt.zaxis = [c, s, 0.0]

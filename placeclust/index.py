@@ -39,6 +39,7 @@ class PlaceIndex:
         self.max_tail = max_tail
         self.checks = checks
         self._flann: cv2.flann.Index | None = None
+        self._data: np.ndarray | None = None  # what _flann indexes, kept so it can be rebuilt
         self._labels = np.zeros(0, np.int64)
         self._tail: dict[int, np.ndarray] = {}
         self._places: set[int] = set()
@@ -46,6 +47,10 @@ class PlaceIndex:
 
     def __len__(self) -> int:
         return len(self._places)
+
+    def __getstate__(self) -> dict:
+        # a FLANN index cannot be pickled or copied; it is rebuilt from _data on the next query
+        return {**self.__dict__, "_flann": None}
 
     def add(self, place: int) -> None:
         """Index a new place (its sample goes to the tail)."""
@@ -59,15 +64,19 @@ class PlaceIndex:
         self._tail.clear()
         samples = [(p, self._sample(p)) for p in sorted(self._places)]
         samples = [(p, s) for p, s in samples if len(s)]
+        self._flann, self._data = None, None
+        self._labels = np.zeros(0, np.int64)
         if not samples:
-            self._flann, self._labels = None, np.zeros(0, np.int64)
             return
-        data = np.ascontiguousarray(np.concatenate([s for _, s in samples]))
+        self._data = np.ascontiguousarray(np.concatenate([s for _, s in samples]))
         self._labels = np.concatenate([np.full(len(s), p, np.int64) for p, s in samples])
+        self._build()
+        self.n_rebuilds += 1
+
+    def _build(self) -> None:
         params = (dict(algorithm=_LSH, table_number=6, key_size=12, multi_probe_level=1)
                   if self.binary else dict(algorithm=_KDTREE, trees=4))
-        self._flann = cv2.flann_Index(data, params)
-        self.n_rebuilds += 1
+        self._flann = cv2.flann_Index(self._data, params)
 
     def votes(self, descriptors: np.ndarray) -> dict[int, int]:
         """Place -> number of ``descriptors`` whose nearest indexed feature belongs to it."""
@@ -76,6 +85,8 @@ class PlaceIndex:
             return {}
         best_d = np.full(n, np.inf)
         best_p = np.full(n, -1, np.int64)
+        if self._flann is None and self._data is not None:
+            self._build()  # after unpickling or copying
         if self._flann is not None and len(self._labels) >= 2:
             idx, dist = self._flann.knnSearch(descriptors, 1, params=dict(checks=self.checks))
             idx = idx[:, 0].astype(np.int64)

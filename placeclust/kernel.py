@@ -39,6 +39,26 @@ class UnionKernel:
         self.n_images = 1
         self._prune()
 
+    @classmethod
+    def from_state(cls, descriptors: np.ndarray, weights: np.ndarray, last_seen: np.ndarray,
+                   n_images: int, binary: bool, capacity: int = 1200, ratio: float = 0.8
+                   ) -> UnionKernel:
+        """A kernel with saved features, weights and ages (for loading maps)."""
+        n = len(descriptors)
+        if n == 0 or len(weights) != n or len(last_seen) != n:
+            raise ValueError(f"kernel arrays disagree: {n} descriptors, {len(weights)} weights, "
+                             f"{len(last_seen)} ages")
+        if binary != (descriptors.dtype == np.uint8):
+            raise ValueError(f"kernel descriptors of dtype {descriptors.dtype} do not fit "
+                             f"{'binary' if binary else 'float'} features")
+        kernel = cls(descriptors, binary, capacity, ratio)
+        kernel.descriptors = np.array(descriptors)
+        kernel.weights = np.asarray(weights, np.float32).copy()
+        kernel.last_seen = np.asarray(last_seen, np.int64).copy()
+        kernel.n_images = int(n_images)
+        kernel._prune()
+        return kernel
+
     def __len__(self) -> int:
         return len(self.descriptors)
 

@@ -1,22 +1,7 @@
-import cv2
 import numpy as np
 import pytest
 
-
-def textured(seed: int, shape=(128, 512)) -> np.ndarray:
-    """A feature-rich synthetic RGB 'panorama': random shapes on smooth noise, distinct per seed."""
-    rng = np.random.default_rng(seed)
-    coarse = rng.integers(0, 256, (shape[0] // 8, shape[1] // 8, 3)).astype(np.uint8)
-    img = cv2.resize(coarse, (shape[1], shape[0]), interpolation=cv2.INTER_CUBIC)
-    for _ in range(120):
-        col = tuple(int(c) for c in rng.integers(0, 256, 3))
-        x, y = int(rng.integers(shape[1])), int(rng.integers(shape[0]))
-        if rng.random() < 0.5:
-            cv2.circle(img, (x, y), int(rng.integers(3, 10)), col, -1)
-        else:
-            cv2.rectangle(img, (x, y), (x + int(rng.integers(4, 16)), y + int(rng.integers(4, 16))),
-                          col, -1)
-    return img
+from placeclust.synthetic import textured
 
 
 @pytest.fixture

@@ -26,7 +26,7 @@ def test_the_same_frame_twice_is_one_place(two_places):
 
 def test_revisiting_a_non_neighbour_closes_a_loop(two_places):
     frames, _ = two_places
-    from tests.placeclust.conftest import textured
+    from placeclust.synthetic import textured
 
     model = OnlinePlaceClustering()
     for f in (frames[0], frames[25], textured(3), textured(4), frames[1]):

@@ -1,0 +1,127 @@
+"""Map files of :class:`~placeclust.online.OnlinePlaceClustering`: safe to write, checked to read.
+
+A map file is a NumPy ``.npz`` archive read with ``allow_pickle=False`` (loading a file runs no
+code): one JSON record (format name and version, constructor parameters, the world the map
+was made in, the topological graph) and three arrays per place kernel. Saving writes a
+temporary file beside the target and renames it over the target, so a process killed
+mid-save leaves the old map or the new one, never a broken file.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import tempfile
+import zipfile
+from pathlib import Path
+from typing import TYPE_CHECKING
+
+import numpy as np
+
+if TYPE_CHECKING:
+    from placeclust.online import OnlinePlaceClustering
+
+FORMAT = "placeclust-map"
+VERSION = 1
+
+
+def save_map(model: OnlinePlaceClustering, path: str | os.PathLike, world: str = "") -> Path:
+    """Write ``model``'s map to ``path`` atomically.
+
+    Args:
+        model: the recognizer whose map (kernels, graph, current place) is saved.
+        path: target file; its folder must exist. An existing file is replaced only once the
+            new one is complete.
+        world: a fingerprint of the world the map was made in (e.g.
+            ``PlaceNavEnv.world_id``); :func:`load_map` can insist on it.
+
+    Returns:
+        The path written.
+    """
+    path = Path(path)
+    if not path.parent.is_dir():
+        raise FileNotFoundError(f"folder {path.parent} does not exist; cannot save the map there")
+    meta = {
+        "format": FORMAT,
+        "version": VERSION,
+        "class": type(model).__name__,
+        "params": model.get_params(),
+        "world": world,
+        "current": int(model.current),
+        "frame_shape": list(model.frame_shape) if model.frame_shape else None,
+        "places": sorted(model.kernels),
+        "kernel_images": {str(p): k.n_images for p, k in model.kernels.items()},
+        "place_images": {str(p): int(d["n_images"]) for p, d in model.graph.nodes(data=True)},
+        "edges": [[int(a), int(b)] for a, b in model.graph.edges()],
+    }
+    arrays = {"meta": np.array(json.dumps(meta))}
+    for p, k in model.kernels.items():
+        arrays[f"k{p}_desc"], arrays[f"k{p}_w"], arrays[f"k{p}_seen"] = (
+            k.descriptors, k.weights, k.last_seen)
+    fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent)
+    try:
+        with os.fdopen(fd, "wb") as f:
+            np.savez(f, **arrays)
+            f.flush()
+            os.fsync(f.fileno())
+        umask = os.umask(0)
+        os.umask(umask)
+        os.chmod(tmp, 0o666 & ~umask)  # mkstemp makes it private; a map is an ordinary file
+        os.replace(tmp, path)
+    except BaseException:
+        Path(tmp).unlink(missing_ok=True)
+        raise
+    return path
+
+
+def read_meta(path: str | os.PathLike) -> tuple[dict, dict[str, np.ndarray]]:
+    """The JSON record and arrays of a map file, or a ``ValueError`` saying what is wrong."""
+    path = Path(path)
+    if not path.is_file():
+        raise FileNotFoundError(f"no map file at {path}")
+    try:
+        with np.load(path, allow_pickle=False) as z:
+            arrays = {k: z[k] for k in z.files}
+        meta = json.loads(str(arrays.pop("meta")))
+    except (zipfile.BadZipFile, OSError, EOFError, KeyError, ValueError) as e:
+        raise ValueError(f"{path} is not a readable placeclust map (corrupt or truncated?): "
+                         f"{type(e).__name__}: {e}") from e
+    if not isinstance(meta, dict) or meta.get("format") != FORMAT:
+        raise ValueError(f"{path} is not a placeclust map (format {meta.get('format')!r})"
+                         if isinstance(meta, dict) else f"{path} is not a placeclust map")
+    if not isinstance(meta.get("version"), int) or meta["version"] > VERSION:
+        raise ValueError(f"{path} has map format version {meta.get('version')!r}; this "
+                         f"placeclust reads up to version {VERSION}: upgrade placeclust")
+    return meta, arrays
+
+
+def load_map(path: str | os.PathLike, world: str | None = None) -> OnlinePlaceClustering:
+    """A recognizer restored from a map file written by :func:`save_map`.
+
+    Args:
+        path: the map file.
+        world: if given, the map must have been made in this world, else ``ValueError``.
+
+    Returns:
+        A new :class:`~placeclust.online.OnlinePlaceClustering` with the saved parameters,
+        kernels, graph and current place.
+    """
+    from placeclust.online import OnlinePlaceClustering
+
+    meta, arrays = read_meta(path)
+    if world is not None and meta.get("world") != world:
+        raise ValueError(f"{path} is a map of world {meta.get('world')!r}, not of {world!r}")
+    if meta.get("class") != OnlinePlaceClustering.__name__:
+        raise ValueError(f"{path} holds a {meta.get('class')!r} map, not an "
+                         f"{OnlinePlaceClustering.__name__} one")
+    try:
+        model = OnlinePlaceClustering(**meta["params"])
+        model.restore(
+            kernels={p: (arrays[f"k{p}_desc"], arrays[f"k{p}_w"], arrays[f"k{p}_seen"],
+                         meta["kernel_images"][str(p)]) for p in meta["places"]},
+            place_images={int(p): n for p, n in meta["place_images"].items()},
+            edges=meta["edges"], current=meta["current"], frame_shape=meta["frame_shape"])
+    except (KeyError, TypeError, ValueError) as e:
+        raise ValueError(f"{path} is an inconsistent placeclust map: {type(e).__name__}: {e}"
+                         ) from e
+    return model

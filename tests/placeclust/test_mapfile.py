@@ -1,0 +1,97 @@
+import json
+
+import networkx as nx
+import numpy as np
+import pytest
+from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as st
+
+from placeclust import OnlinePlaceClustering
+from placeclust.mapfile import VERSION, read_meta
+from placeclust.synthetic import textured
+
+
+@pytest.fixture(scope="module")
+def frames():
+    return [textured(s) for s in (1, 2, 3)]
+
+
+@pytest.fixture
+def mapped(frames):
+    model = OnlinePlaceClustering(features="orb")
+    for f in frames + frames:
+        model.learn_one(f)
+    return model
+
+
+def test_round_trip_keeps_the_map(mapped, frames, tmp_path):
+    mapped.save(tmp_path / "m.npz", world="w1")
+    loaded = OnlinePlaceClustering.load(tmp_path / "m.npz", world="w1")
+    assert loaded.get_params() == mapped.get_params()
+    assert nx.utils.graphs_equal(loaded.graph, mapped.graph)
+    assert loaded.current == mapped.current and loaded.frame_shape == mapped.frame_shape
+    for p, k in mapped.kernels.items():
+        np.testing.assert_array_equal(loaded.kernels[p].descriptors, k.descriptors)
+        np.testing.assert_array_equal(loaded.kernels[p].weights, k.weights)
+    assert [loaded.predict_one(f) for f in frames] == [mapped.predict_one(f) for f in frames]
+
+
+def test_localize_one_never_changes_the_map(mapped, frames):
+    n, sizes = mapped.n_places, {p: len(k) for p, k in mapped.kernels.items()}
+    other = textured(99)
+    assert [mapped.localize_one(f) for f in frames] == [0, 1, 2]
+    mapped.localize_one(other)
+    assert mapped.n_places == n and {p: len(k) for p, k in mapped.kernels.items()} == sizes
+
+
+def test_a_failed_save_leaves_the_old_map(mapped, tmp_path, monkeypatch):
+    path = tmp_path / "m.npz"
+    mapped.save(path)
+    before = path.read_bytes()
+
+    def boom(*args, **kwargs):
+        raise OSError("disk full")
+
+    monkeypatch.setattr(np, "savez", boom)
+    with pytest.raises(OSError, match="disk full"):
+        mapped.save(path)
+    assert path.read_bytes() == before
+    assert [p.name for p in tmp_path.iterdir()] == ["m.npz"]  # no temporary file left
+
+
+def test_foreign_future_and_other_world_files_are_refused(mapped, tmp_path):
+    np.savez(tmp_path / "foreign.npz", x=np.arange(3))
+    with pytest.raises(ValueError, match="not a readable placeclust map|not a placeclust map"):
+        OnlinePlaceClustering.load(tmp_path / "foreign.npz")
+    mapped.save(tmp_path / "m.npz", world="kitchen world")
+    meta, arrays = read_meta(tmp_path / "m.npz")
+    meta["version"] = VERSION + 1
+    np.savez(tmp_path / "future.npz", meta=np.array(json.dumps(meta)), **arrays)
+    with pytest.raises(ValueError, match="upgrade placeclust"):
+        OnlinePlaceClustering.load(tmp_path / "future.npz")
+    with pytest.raises(ValueError, match="is a map of world 'kitchen world'"):
+        OnlinePlaceClustering.load(tmp_path / "m.npz", world="garage world")
+    with pytest.raises(FileNotFoundError, match="no map file"):
+        OnlinePlaceClustering.load(tmp_path / "missing.npz")
+
+
+@settings(max_examples=25, deadline=None,
+          suppress_health_check=[HealthCheck.function_scoped_fixture])
+@given(cut=st.integers(min_value=0, max_value=10_000), flip=st.integers(min_value=0))
+def test_truncated_or_corrupt_files_give_a_clear_error(mapped, tmp_path, cut, flip):
+    path = tmp_path / "m.npz"
+    mapped.save(path)
+    data = bytearray(path.read_bytes())
+    bad = tmp_path / "bad.npz"
+    if cut < len(data) - 1:
+        bad.write_bytes(bytes(data[:cut]))
+    else:
+        data[flip % len(data)] ^= 0xFF
+        bad.write_bytes(bytes(data))
+    try:
+        loaded = OnlinePlaceClustering.load(bad)
+    except ValueError as e:
+        assert "placeclust map" in str(e)
+    else:  # a flipped byte in descriptor data is not detectable; the map must still be whole
+        assert loaded.n_places == mapped.n_places
+

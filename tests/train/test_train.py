@@ -1,0 +1,77 @@
+import json
+from pathlib import Path
+
+import pytest
+
+pytest.importorskip("stable_baselines3")
+
+from train.evaluate import POLICIES, evaluate, main  # noqa: E402
+from train.make import make_env  # noqa: E402
+from train.train import load_config, train  # noqa: E402
+
+TINY = """
+default: &default
+  env: {scene_seed: 0, n_rooms: 4, control_dt: 0.2, max_episode_steps: 20}
+  n_envs: 1
+  n_timesteps: 256
+  policy: MultiInputPolicy
+  n_steps: 128
+  batch_size: 64
+  n_epochs: 1
+place:
+  <<: *default
+oracle:
+  <<: *default
+"""
+
+
+@pytest.fixture
+def tiny_config(tmp_path):
+    path = tmp_path / "ppo.yml"
+    path.write_text(TINY)
+    return path
+
+
+@pytest.mark.parametrize("agent", ["oracle", "place"])
+def test_a_short_training_run_completes(agent, tiny_config, tmp_path):
+    out = tmp_path / agent
+    policy = train(agent, seed=1, out=out, map_dir=POLICIES, progress=False,
+                   config_path=tiny_config)
+    assert policy.is_file() and (out / "progress.csv").read_text().strip()
+    info = json.loads((out / "train_info.json").read_text())
+    assert info["timesteps"] == 256 and info["agent"] == agent
+    scores = evaluate("ppo" if agent == "place" else agent, 1, seed=1000, policy=policy,
+                      map_dir=out, config_path=tiny_config)
+    assert 0.0 <= scores["success_rate"] <= 1.0 and scores["mean_length"] >= 1
+
+
+def test_unknown_agent_and_section(tiny_config):
+    with pytest.raises(ValueError, match="no section 'noplace'"):
+        load_config("noplace", tiny_config)
+    with pytest.raises(ValueError, match="unknown agent"):
+        make_env("telepathic")
+    with pytest.raises(ValueError, match="needs map_path"):
+        make_env("place")
+
+
+def test_evaluate_cli_writes_json_and_reports_bad_input(tmp_path, capsys):
+    out = tmp_path / "random.json"
+    assert main(["--agent", "random", "--episodes", "2", "--seed", "1000",
+                 "--json", str(out)]) == 0
+    scores = json.loads(out.read_text())
+    assert {"success_rate", "mean_length", "spl"} <= set(scores)
+    assert 0.0 <= scores["spl"] <= scores["success_rate"] <= 1.0
+    assert main(["--agent", "ppo", "--policy", str(tmp_path / "none.zip"),
+                 "--episodes", "1"]) == 2
+    assert "no policy file" in capsys.readouterr().err
+    assert main(["--agent", "random", "--episodes", "0"]) == 2
+
+
+def test_planner_runs_on_the_recognizers_graph():
+    scores = evaluate("planner", 1, seed=1000)
+    assert scores["episodes"] == 1 and scores["mean_length"] >= 1
+
+
+def test_shipped_map_matches_the_default_world():
+    env = make_env("place", map_path=Path(POLICIES) / "map.npz")
+    env.close()

@@ -1,0 +1,136 @@
+"""Train a PPO agent on ``PlaceNav-ReachRoom-v0`` (the rl-baselines3-zoo pattern).
+
+    python -m train.train --agent place --seed 0
+
+Hyperparameters come from ``train/hyperparams/ppo.yml`` (one section per agent, see
+:mod:`train.make`). The run folder (``runs/train/<agent>_s<seed>`` by default) gets the resolved
+config, the place map (``place`` agent: built from a scripted tour unless ``--map`` names one),
+``progress.csv`` (SB3's logger), checkpoints, ``policy.zip`` and ``train_info.json``.
+"""
+
+from __future__ import annotations
+
+import argparse
+import functools
+import json
+import shutil
+import sys
+import time
+from pathlib import Path
+from typing import Any
+
+import yaml
+
+from train.make import AGENTS, make_env
+from train.mapping import EDGES_FILE, MAP_FILE, build_map
+
+HYPERPARAMS = Path(__file__).resolve().parent / "hyperparams" / "ppo.yml"
+TRAINABLE = tuple(a for a in AGENTS if a != "planner")
+
+
+def load_config(agent: str, path: Path = HYPERPARAMS) -> dict[str, Any]:
+    """The hyperparameter section for ``agent``, or a ``ValueError`` naming the known ones."""
+    config = yaml.safe_load(Path(path).read_text())
+    if agent not in config:
+        known = sorted(k for k in config if k != "default")
+        raise ValueError(f"{path} has no section {agent!r}; it has {known}")
+    return dict(config[agent])
+
+
+def prepare_map(agent: str, out: Path, env_cfg: dict[str, Any], given: Path | None,
+                progress: bool) -> Path | None:
+    """The map file the agent localizes on (copied into ``out`` so the run is self-contained)."""
+    if agent not in ("place", "planner"):
+        return None
+    if given is None:
+        return build_map(out, env_cfg.get("scene_seed", 0), env_cfg.get("n_rooms", 4),
+                         progress=progress)
+    for name in (MAP_FILE, EDGES_FILE):
+        if Path(given, name).resolve() != Path(out, name).resolve():
+            shutil.copy(Path(given, name), out / name)
+    return out / MAP_FILE
+
+
+def train(agent: str, seed: int = 0, out: Path | None = None, timesteps: int | None = None,
+          n_envs: int | None = None, map_dir: Path | None = None, progress: bool = True,
+          config_path: Path = HYPERPARAMS) -> Path:
+    """Train ``agent`` and return the path of the saved policy."""
+    from stable_baselines3 import PPO
+    from stable_baselines3.common.callbacks import CheckpointCallback
+    from stable_baselines3.common.env_util import make_vec_env
+    from stable_baselines3.common.logger import configure
+    from stable_baselines3.common.vec_env import DummyVecEnv, SubprocVecEnv
+
+    if agent not in TRAINABLE:
+        raise ValueError(f"unknown agent {agent!r}; trainable agents are {TRAINABLE}")
+    cfg = load_config(agent, config_path)
+    env_cfg = dict(cfg.pop("env", {}))
+    n_envs = n_envs or cfg.pop("n_envs", 1)
+    cfg.pop("n_envs", None)
+    timesteps = timesteps or cfg.pop("n_timesteps")
+    cfg.pop("n_timesteps", None)
+    policy = cfg.pop("policy")
+    out = Path(out or f"runs/train/{agent}_s{seed}")
+    out.mkdir(parents=True, exist_ok=True)
+    map_path = prepare_map(agent, out, env_cfg, map_dir, progress)
+    (out / "config.yml").write_text(yaml.safe_dump(
+        {"agent": agent, "seed": seed, "n_envs": n_envs, "n_timesteps": timesteps,
+         "policy": policy, "env": env_cfg, **cfg}))
+    # spawned workers: a worker forked from a process that has rendered deadlocks in Mesa's EGL
+    venv = make_vec_env(functools.partial(make_env, agent, map_path=map_path, **env_cfg),
+                        n_envs=n_envs, seed=seed,
+                        vec_env_cls=SubprocVecEnv if n_envs > 1 else DummyVecEnv,
+                        vec_env_kwargs={"start_method": "spawn"} if n_envs > 1 else None,
+                        monitor_kwargs={"info_keywords": ("is_success",)})
+    model = PPO(policy, venv, seed=seed, device="cpu", verbose=0, **cfg)
+    model.set_logger(configure(str(out), ["csv", "stdout"] if progress else ["csv"]))
+    checkpoints = CheckpointCallback(max(timesteps // 10 // n_envs, 1), str(out / "checkpoints"),
+                                     name_prefix="ppo")
+    start = time.perf_counter()
+    model.learn(timesteps, callback=checkpoints, progress_bar=progress)
+    minutes = (time.perf_counter() - start) / 60
+    venv.close()
+    model.save(out / "policy.zip")
+    (out / "train_info.json").write_text(json.dumps(
+        {"agent": agent, "seed": seed, "timesteps": timesteps, "n_envs": n_envs,
+         "minutes": round(minutes, 2), "versions": _versions()}, indent=2))
+    return out / "policy.zip"
+
+
+def _versions() -> dict[str, str]:
+    import gymnasium
+    import mujoco
+    import stable_baselines3
+    import torch
+
+    return {"stable_baselines3": stable_baselines3.__version__, "torch": torch.__version__,
+            "gymnasium": gymnasium.__version__, "mujoco": mujoco.__version__,
+            "python": sys.version.split()[0]}
+
+
+def main(argv: list[str] | None = None) -> int:
+    p = argparse.ArgumentParser(prog="python -m train.train", description=__doc__,
+                                formatter_class=argparse.RawDescriptionHelpFormatter)
+    p.add_argument("--agent", default="place", choices=TRAINABLE)
+    p.add_argument("--seed", type=int, default=0)
+    p.add_argument("--out", type=Path, help="run folder (default runs/train/<agent>_s<seed>)")
+    p.add_argument("--timesteps", type=int, help="override n_timesteps of the config")
+    p.add_argument("--n-envs", type=int, help="override n_envs of the config")
+    p.add_argument("--map", type=Path, help="folder with map.npz and map_edges.json to reuse")
+    p.add_argument("--config", type=Path, default=HYPERPARAMS)
+    p.add_argument("--no-progress", action="store_true")
+    args = p.parse_args(argv)
+    if args.timesteps is not None and args.timesteps < 1:
+        p.error(f"--timesteps must be positive, got {args.timesteps}")
+    try:
+        path = train(args.agent, args.seed, args.out, args.timesteps, args.n_envs, args.map,
+                     not args.no_progress, args.config)
+    except (ValueError, FileNotFoundError) as e:
+        print(f"error: {e}", file=sys.stderr)
+        return 2
+    print(f"policy saved to {path}")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
