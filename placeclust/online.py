@@ -157,8 +157,9 @@ class OnlinePlaceClustering:
         return place
 
     def reset_position(self) -> None:
-        """Forget where the robot is (it was carried elsewhere): the next frame is compared with
-        every place instead of the current one's neighbours. The map is kept."""
+        """Forget where the robot is (it was carried elsewhere): the next frame is searched in
+        the whole map (through the index shortlist) instead of the current place's
+        neighbourhood. The map is kept."""
         self.current = UNKNOWN
 
     @property
