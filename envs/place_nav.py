@@ -103,7 +103,9 @@ class PlaceNavEnv(gym.Env):
         if not 0.005 <= control_dt <= 1.0:
             raise ValueError(f"control_dt must be in [0.005, 1] s, got {control_dt}")
         self.render_mode = render_mode
-        self._world = (scene_seed, n_rooms, extra_doors, n_cameras)
+        self._world_id = (f"PlaceNav scene_seed={scene_seed} n_rooms={n_rooms} "
+                          f"extra_doors={extra_doors} panorama={panorama_width}x{panorama_height} "
+                          f"n_cameras={n_cameras}")
         self.geometry = PanoramaGeometry(panorama_width, panorama_height, n_cameras)
         self.scene: Scene = build_scene(scene_seed, n_rooms, lighting, n_cameras,
                                         self.geometry.fovy, extra_doors)
@@ -130,9 +132,7 @@ class PlaceNavEnv(gym.Env):
     @property
     def world_id(self) -> str:
         """Fingerprint of what a map depends on: the building and the camera, not the light."""
-        h, w = self.geometry.height, self.geometry.width
-        return (f"PlaceNav scene_seed={self._world[0]} n_rooms={self._world[1]} "
-                f"extra_doors={self._world[2]} panorama={w}x{h} n_cameras={self._world[3]}")
+        return self._world_id
 
     @property
     def plan(self) -> FloorPlan:

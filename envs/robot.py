@@ -69,8 +69,7 @@ class Robot:
     def pose(self, data: mujoco.MjData) -> np.ndarray:
         """(x, y, heading) with heading in (-pi, pi], from the simulator's ground truth."""
         x, y = data.xpos[self._body][:2]
-        mat = data.xmat[self._body]
-        return np.array([x, y, math.atan2(mat[3], mat[0])])
+        return np.array([x, y, self._yaw(data)])
 
     def velocity(self, data: mujoco.MjData) -> np.ndarray:
         """(forward speed m/s, turn rate rad/s) in the robot frame, from wheel odometry."""
@@ -89,6 +88,9 @@ class Robot:
 
     def heading(self, data: mujoco.MjData) -> np.ndarray:
         """Compass reading (cos, sin) of the heading, as a magnetometer would give it."""
-        mat = data.xmat[self._body]
-        yaw = math.atan2(mat[3], mat[0])
+        yaw = self._yaw(data)
         return np.array([math.cos(yaw), math.sin(yaw)])
+
+    def _yaw(self, data: mujoco.MjData) -> float:
+        mat = data.xmat[self._body]
+        return math.atan2(mat[3], mat[0])

@@ -65,10 +65,11 @@ def train(agent: str, seed: int = 0, out: Path | None = None, timesteps: int | N
         raise ValueError(f"unknown agent {agent!r}; trainable agents are {TRAINABLE}")
     cfg = load_config(agent, config_path)
     env_cfg = dict(cfg.pop("env", {}))
-    n_envs = n_envs or cfg.pop("n_envs", 1)
-    cfg.pop("n_envs", None)
-    timesteps = timesteps or cfg.pop("n_timesteps")
-    cfg.pop("n_timesteps", None)
+    # the command line overrides the file; the rest of cfg goes to PPO
+    file_n_envs, file_timesteps = cfg.pop("n_envs", 1), cfg.pop("n_timesteps", None)
+    n_envs, timesteps = n_envs or file_n_envs, timesteps or file_timesteps
+    if timesteps is None:
+        raise ValueError(f"{config_path} gives no n_timesteps for {agent!r}; pass --timesteps")
     policy = cfg.pop("policy")
     out = Path(out or f"runs/train/{agent}_s{seed}")
     out.mkdir(parents=True, exist_ok=True)
