@@ -6,13 +6,13 @@ PY := $(VENV)/bin/python
 PIP := $(PY) -m pip
 export MUJOCO_GL ?= egl
 
-.PHONY: demo test lint bench-env bench-latency train eval clean
+.PHONY: demo test bench bench-quick bench-long bench-env bench-latency train eval clean
 
 $(VENV)/.installed: pyproject.toml
 	$(PYTHON) -m venv $(VENV)
 	$(PIP) install --quiet --upgrade pip
 	$(PIP) install --quiet torch==2.13.0
-	$(PIP) install --quiet -e ".[train,surf,dev]"
+	$(PIP) install --quiet -e ".[train,surf,ray,dev]"
 	touch $@
 
 demo: $(VENV)/.installed
@@ -21,6 +21,17 @@ demo: $(VENV)/.installed
 test: $(VENV)/.installed
 	$(PY) -m ruff check .
 	$(PY) -m pytest -q
+
+# the benchmark matrix (placeclust/bench.py): results.csv, results.md, precision.png, latency.png
+bench-quick: $(VENV)/.installed
+	$(VENV)/bin/placeclust bench --quick
+
+bench: $(VENV)/.installed
+	$(VENV)/bin/placeclust bench
+
+# 20,000 steps in a 12-room world with the online recognizer in the loop
+bench-long: $(VENV)/.installed
+	$(PY) -m envs.longrun --steps 20000 --rooms 12 --features orb
 
 bench-env: $(VENV)/.installed
 	$(PY) -m envs.benchmark

@@ -29,11 +29,15 @@ from envs.tour import Tour, drive_tour
 
 
 def record_tour(scene_seed: int, n_rooms: int, steps: int, seed: int = 0, width: int = 512,
-                height: int = 128, lighting: str = "day", progress: bool = True
-                ) -> tuple[Tour, FloorPlan]:
-    """Drive a scripted tour of ``steps`` frames; returns it with the world's floor plan."""
+                height: int = 128, lighting: str = "day", progress: bool = True,
+                **env_kwargs: object) -> tuple[Tour, FloorPlan]:
+    """Drive a scripted tour of ``steps`` frames; returns it with the world's floor plan.
+
+    ``env_kwargs`` go to ``PlaceNav-v0`` (appearance changes, see :mod:`envs.changes`).
+    """
     env = gym.make("PlaceNav-v0", scene_seed=scene_seed, n_rooms=n_rooms, panorama_width=width,
-                   panorama_height=height, lighting=lighting, max_episode_steps=None)
+                   panorama_height=height, lighting=lighting, max_episode_steps=None,
+                   **env_kwargs)
     try:
         tour = drive_tour(env, steps, seed=seed, progress=progress)
         return tour, env.unwrapped.plan

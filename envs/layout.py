@@ -377,15 +377,16 @@ def _place_furniture(
         placed: list[Furniture] = []
         for _ in range(int(rng.integers(per_room[0], per_room[1] + 1))):
             for _attempt in range(20):
-                f = _draw_item(room, kinds[rng.integers(len(kinds))], rng)
-                if _clear_of(f, placed, doors):
+                f = draw_item(room, kinds[rng.integers(len(kinds))], rng)
+                if clear_of(f, placed, doors):
                     placed.append(f)
                     break
         items += placed
     return items
 
 
-def _draw_item(room: Room, kind: str, rng: np.random.Generator) -> Furniture:
+def draw_item(room: Room, kind: str, rng: np.random.Generator) -> Furniture:
+    """A furniture item of ``kind`` against a random wall of ``room`` (may overlap others)."""
     (l0, l1), (d0, d1), (h0, h1) = _FURNITURE[kind]
     length, depth = rng.uniform(l0, l1), rng.uniform(d0, d1)
     height = rng.uniform(h0, h1)
@@ -403,7 +404,8 @@ def _draw_item(room: Room, kind: str, rng: np.random.Generator) -> Furniture:
     return Furniture(room.id, kind, r(x), r(y), r(hx), r(hy), r(height))
 
 
-def _clear_of(f: Furniture, placed: list[Furniture], doors: list[Door]) -> bool:
+def clear_of(f: Furniture, placed: list[Furniture], doors: list[Door]) -> bool:
+    """True when ``f`` keeps a gap to every ``placed`` item and leaves the doorways free."""
     gap = 0.5
     for o in placed:
         if abs(f.x - o.x) < f.hx + o.hx + gap and abs(f.y - o.y) < f.hy + o.hy + gap:

@@ -10,6 +10,7 @@ import mujoco
 import numpy as np
 from gymnasium import spaces
 
+from envs.changes import Changes, degrade
 from envs.layout import FloorPlan
 from envs.panorama import PanoramaGeometry
 from envs.rendering import SceneRenderer
@@ -71,6 +72,12 @@ class PlaceNavEnv(gym.Env):
     | ``extra_doors`` | 0.5 | fraction of non-tree walls with a door (loops); 0 gives a tree |
     | ``control_dt`` | 0.1 | seconds of simulation per step (physics runs at 5 ms) |
     | ``panorama`` | ``True`` | render the panorama into the observation |
+    | ``furniture_moved`` | 0 | fraction of furniture moved to another wall of its room |
+    | ``furniture_removed`` | 0 | fraction of furniture taken away |
+    | ``posters_swapped`` | 0 | fraction of posters whose pictures are exchanged |
+    | ``camera_noise`` | 0 | Gaussian pixel noise, standard deviation in grey levels |
+    | ``camera_blur`` | 0 | Gaussian blur, standard deviation in pixels |
+    | ``changes_seed`` | 0 | seed of the changes above (see :mod:`envs.changes`); the noise also follows ``reset(seed=...)`` |
     | ``render_mode`` | ``None`` | ``"rgb_array"``: top-down view with the robot above the panorama |
 
     ``reset(options=...)`` accepts ``{"pose": (x, y, heading)}`` or ``{"room": name}`` to choose
@@ -94,6 +101,12 @@ class PlaceNavEnv(gym.Env):
         control_dt: float = 0.1,
         render_mode: str | None = None,
         panorama: bool = True,
+        furniture_moved: float = 0.0,
+        furniture_removed: float = 0.0,
+        posters_swapped: float = 0.0,
+        camera_noise: float = 0.0,
+        camera_blur: float = 0.0,
+        changes_seed: int = 0,
     ) -> None:
         if render_mode is not None and render_mode not in self.metadata["render_modes"]:
             raise ValueError(f"render_mode must be one of {self.metadata['render_modes']} or None, "
@@ -103,12 +116,15 @@ class PlaceNavEnv(gym.Env):
         if not 0.005 <= control_dt <= 1.0:
             raise ValueError(f"control_dt must be in [0.005, 1] s, got {control_dt}")
         self.render_mode = render_mode
+        self.changes = Changes(furniture_moved, furniture_removed, posters_swapped, camera_noise,
+                               camera_blur, changes_seed)
+        self._camera_rng = np.random.default_rng(changes_seed)
         self._world_id = (f"PlaceNav scene_seed={scene_seed} n_rooms={n_rooms} "
                           f"extra_doors={extra_doors} panorama={panorama_width}x{panorama_height} "
                           f"n_cameras={n_cameras}")
         self.geometry = PanoramaGeometry(panorama_width, panorama_height, n_cameras)
         self.scene: Scene = build_scene(scene_seed, n_rooms, lighting, n_cameras,
-                                        self.geometry.fovy, extra_doors)
+                                        self.geometry.fovy, extra_doors, self.changes)
         self.model = self.scene.model
         self.data = mujoco.MjData(self.model)
         self.robot = Robot(self.model)
@@ -131,7 +147,8 @@ class PlaceNavEnv(gym.Env):
 
     @property
     def world_id(self) -> str:
-        """Fingerprint of what a map depends on: the building and the camera, not the light."""
+        """Fingerprint of what a map depends on: the building and the camera, not the light or
+        the :class:`~envs.changes.Changes` (a map of a changed building is still its map)."""
         return self._world_id
 
     @property
@@ -151,6 +168,9 @@ class PlaceNavEnv(gym.Env):
         super().reset(seed=seed)
         mujoco.mj_resetData(self.model, self.data)
         x, y, heading = self._start_pose(options or {})
+        if self.changes.camera:  # drawn after the start pose, which stays the unchanged world's
+            episode = int(self.np_random.integers(2**63))
+            self._camera_rng = np.random.default_rng([self.changes.seed, episode])
         self.robot.place(self.data, x, y, heading)
         mujoco.mj_forward(self.model, self.data)
         info = self._info()
@@ -219,6 +239,8 @@ class PlaceNavEnv(gym.Env):
         }
         if self.with_panorama:
             self._panorama = self.renderer.panorama(self.data)
+            if self.changes.camera:
+                self._panorama = degrade(self._panorama, self.changes, self._camera_rng)
             obs["panorama"] = self._panorama
         return obs
 

@@ -88,6 +88,10 @@ class SceneRenderer:
         self._scene = mujoco.MjvScene(model, maxgeom=max(1000, 2 * model.ngeom))
         self._option = mujoco.MjvOption()
         self._option.geomgroup[_HIDDEN_GROUP] = 0
+        # the robot's own rangefinder rays are sensors, not scenery: a camera must not see them
+        self._option.flags[mujoco.mjtVisFlag.mjVIS_RANGEFINDER] = 0
+        self._top_option = mujoco.MjvOption()  # the top-down view for people shows the rays
+        self._top_option.geomgroup[_HIDDEN_GROUP] = 0
         self._perturb = mujoco.MjvPerturb()
         self._camera = mujoco.MjvCamera()
         self._camera.type = mujoco.mjtCamera.mjCAMERA_FIXED
@@ -170,7 +174,7 @@ class SceneRenderer:
         saved = self.model.vis.global_.fovy
         self.model.vis.global_.fovy = span
         try:
-            mujoco.mjv_updateScene(self.model, data, self._option, self._perturb, cam,
+            mujoco.mjv_updateScene(self.model, data, self._top_option, self._perturb, cam,
                                    mujoco.mjtCatBit.mjCAT_ALL, self._scene)
             rect = mujoco.MjrRect(0, 0, w, h)
             mujoco.mjr_render(rect, self._scene, self._ctx)

@@ -17,6 +17,7 @@ import mujoco
 import numpy as np
 
 from envs import textures
+from envs.changes import Changes, rearrange_furniture, swap_posters
 from envs.layout import WALL_THICKNESS, FloorPlan, Room, Wall, generate_floor_plan
 from envs.robot import MAX_RANGE, N_RANGES, RADIUS
 
@@ -55,6 +56,7 @@ def build_scene(
     n_cameras: int = 4,
     camera_fovy: float = 90.0,
     extra_doors: float = 0.5,
+    changes: Changes | None = None,
 ) -> Scene:
     """Generate a floor plan from ``scene_seed`` and compile it into a MuJoCo model.
 
@@ -65,6 +67,8 @@ def build_scene(
         n_cameras: cameras on the mast, evenly spaced in yaw, for the panorama.
         camera_fovy: vertical field of view of each camera, degrees.
         extra_doors: see :func:`envs.layout.generate_floor_plan`.
+        changes: furniture and posters moved since the building was new
+            (:class:`~envs.changes.Changes`; its camera fields are the env's business).
 
     Returns:
         The compiled :class:`Scene`.
@@ -73,6 +77,8 @@ def build_scene(
         raise ValueError(f"unknown lighting {lighting!r}; choose one of {LIGHTING}")
     rng = np.random.default_rng(scene_seed)
     plan = generate_floor_plan(n_rooms, rng, extra_doors=extra_doors)
+    changes = changes or Changes()
+    plan = rearrange_furniture(plan, changes)  # its own random stream: textures stay the same
     spec = mujoco.MjSpec()
     spec.modelname = f"placenav_{scene_seed}_{n_rooms}"
     _setup_visual(spec, plan, lighting)
@@ -81,6 +87,7 @@ def build_scene(
     spec.option.integrator = mujoco.mjtIntegrator.mjINT_IMPLICITFAST
     _add_floor(spec, plan, rng)
     _add_walls(spec, plan, rng)
+    swap_posters(spec, changes)
     _add_furniture(spec, plan, rng)
     cams = _add_robot(spec, n_cameras, camera_fovy)
     model = spec.compile()

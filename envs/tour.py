@@ -10,6 +10,7 @@ kind of sequence the seed papers record with a driven robot: frames with ground 
 from __future__ import annotations
 
 import math
+from collections.abc import Iterator
 from dataclasses import dataclass
 
 import gymnasium as gym
@@ -128,31 +129,28 @@ class WaypointController:
         return np.array([forward, turn])
 
 
-def drive_tour(env: gym.Env, steps: int, seed: int = 0, progress: bool = False) -> Tour:
-    """Drive ``steps`` steps of a scripted tour in a ``PlaceNav`` env and record it.
+def tour_steps(env: gym.Env, steps: int, seed: int = 0) -> Iterator[tuple[dict, dict]]:
+    """Drive a scripted tour in a ``PlaceNav`` env, one step at a time, storing nothing.
 
     Args:
         env: a ``PlaceNav-v0`` env (wrapped or not); it is reset with ``seed``.
-        steps: number of frames to record, at least 1.
+        steps: number of observations to yield, at least 1.
         seed: seeds the start pose and the route.
-        progress: show a progress bar.
 
-    Returns:
-        The recorded :class:`Tour`; frame ``t`` is the observation after ``t`` steps.
+    Yields:
+        ``(observation, info)``: the first after the reset, then one after every step, so long
+        tours run in constant memory.
     """
     if steps < 1:
         raise ValueError(f"steps must be a positive number of frames, got {steps}")
-    base = env.unwrapped
+    plan = env.unwrapped.plan
     obs, info = env.reset(seed=seed)
     rng = np.random.default_rng(seed)
-    plan = base.plan
-    frames = np.empty((steps, *obs["panorama"].shape), np.uint8)
-    rooms = np.empty(steps, np.int64)
-    poses = np.empty((steps, 3))
     controller = WaypointController([])
-    bar = _progress_bar(steps, progress)
     for t in range(steps):
-        frames[t], rooms[t], poses[t] = obs["panorama"], info["room_id"], info["pose"]
+        yield obs, info
+        if t == steps - 1:
+            return
         if controller.done:  # plan the next stretch from wherever the robot is now
             here = max(info["room_id"], 0)
             route = room_route(plan, here, max(2, len(plan.rooms)), rng)
@@ -160,9 +158,24 @@ def drive_tour(env: gym.Env, steps: int, seed: int = 0, progress: bool = False) 
             controller = WaypointController(([start] if start else [])
                                             + waypoints(plan, route, rng))
         obs, _, _, _, info = env.step(controller.action(info["pose"]).astype(np.float32))
+
+
+def drive_tour(env: gym.Env, steps: int, seed: int = 0, progress: bool = False) -> Tour:
+    """Drive ``steps`` steps of a scripted tour (:func:`tour_steps`) and record it.
+
+    Returns:
+        The recorded :class:`Tour`; frame ``t`` is the observation after ``t`` steps.
+    """
+    frames = rooms = poses = None
+    bar = _progress_bar(steps, progress)
+    for t, (obs, info) in enumerate(tour_steps(env, steps, seed)):
+        if frames is None:
+            frames = np.empty((steps, *obs["panorama"].shape), np.uint8)
+            rooms, poses = np.empty(steps, np.int64), np.empty((steps, 3))
+        frames[t], rooms[t], poses[t] = obs["panorama"], info["room_id"], info["pose"]
         bar.update(1)
     bar.close()
-    return Tour(frames, rooms, poses, [r.name for r in plan.rooms])
+    return Tour(frames, rooms, poses, [r.name for r in env.unwrapped.plan.rooms])
 
 
 def _progress_bar(total: int, enabled: bool):

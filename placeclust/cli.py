@@ -1,7 +1,7 @@
-"""The ``placeclust`` command line: ``tour``, ``cluster`` and ``demo``.
+"""The ``placeclust`` command line: ``tour``, ``cluster``, ``demo`` and ``bench``.
 
-``tour`` and ``demo`` drive the simulator and import :mod:`envs` lazily, so ``placeclust``
-itself never needs gymnasium or MuJoCo.
+``tour``, ``demo`` and ``bench`` drive the simulator and import :mod:`envs` lazily, so
+``placeclust`` itself never needs gymnasium or MuJoCo.
 """
 
 from __future__ import annotations
@@ -89,6 +89,51 @@ def cmd_demo(args: argparse.Namespace) -> None:
              seed=args.seed)
 
 
+def cmd_bench(args: argparse.Namespace) -> None:
+    from dataclasses import replace
+
+    from placeclust.bench import PRESETS, run_bench
+
+    preset = "quick" if args.quick else args.preset
+    overrides = {name: tuple(value) for name, value in (
+        ("algos", args.algos), ("features", args.features), ("scenes", args.scenes),
+        ("rooms", args.rooms), ("conditions", args.conditions), ("tour_seeds", args.tour_seeds),
+        ("latency_sizes", args.latency_sizes)) if value is not None}
+    if args.steps_per_room is not None:
+        overrides["steps_per_room"] = args.steps_per_room
+    if args.latency_sizes == []:  # no sweep
+        overrides["latency_features"] = ()
+    if args.workers < 0:
+        raise ValueError(f"--workers must be 0 (one per core) or more, got {args.workers}")
+    matrix = replace(PRESETS[preset], **overrides)
+    run_bench(matrix, args.out or f"runs/bench-{preset}", args.workers, args.executor,
+              args.ray_address, progress=not args.quiet)
+
+
+def _add_bench(sub: argparse._SubParsersAction) -> None:
+    bench = sub.add_parser("bench", help="the benchmark matrix: results.csv, table and plots",
+                           description="Recognizers x features x worlds x tour seeds, in "
+                           "parallel, resuming finished runs. The axes default to the preset.")
+    bench.add_argument("--preset", choices=("quick", "full"), default="full")
+    bench.add_argument("--quick", action="store_true", help="same as --preset quick")
+    bench.add_argument("--out", help="report folder (default runs/bench-PRESET)")
+    bench.add_argument("--algos", nargs="+", choices=ALGORITHMS)
+    bench.add_argument("--features", nargs="+", choices=FEATURES)
+    bench.add_argument("--scenes", nargs="+", type=int)
+    bench.add_argument("--rooms", nargs="+", type=int)
+    bench.add_argument("--conditions", nargs="+", help="day, cloudy, night, moved, noisy, or "
+                       "map>test as day>night (online only)")
+    bench.add_argument("--tour-seeds", nargs="+", type=int)
+    bench.add_argument("--steps-per-room", type=int)
+    bench.add_argument("--latency-sizes", nargs="*", type=int,
+                       help="map sizes of the latency sweep (none: skip it)")
+    bench.add_argument("--workers", type=int, default=0, help="processes; 0: one per core")
+    bench.add_argument("--executor", choices=("process", "ray"), default="process")
+    bench.add_argument("--ray-address", help="Ray cluster to join (default: start a local one)")
+    bench.add_argument("--quiet", action="store_true")
+    bench.set_defaults(func=cmd_bench)
+
+
 def build_parser() -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(prog="placeclust", description=__doc__.splitlines()[0])
     sub = parser.add_subparsers(dest="command", required=True)
@@ -120,6 +165,7 @@ def build_parser() -> argparse.ArgumentParser:
     demo.add_argument("--steps", type=int, default=1000)
     demo.add_argument("--seed", type=int, default=0)
     demo.set_defaults(func=cmd_demo)
+    _add_bench(sub)
     return parser
 
 

@@ -26,3 +26,12 @@ def test_heading_is_the_centre_column():
 def test_too_small_panoramas_are_refused(size):
     with pytest.raises(ValueError, match="too small"):
         PanoramaGeometry(*size)
+
+
+def test_the_camera_does_not_see_the_rangefinder_rays(make_env):
+    """MuJoCo draws rangefinder rays in yellow by default; a panorama must show the room only."""
+    env = make_env(panorama_width=512, panorama_height=128)
+    obs, _ = env.reset(seed=0)
+    p = obs["panorama"].astype(int)
+    ray_yellow = (p[..., 0] > 200) & (p[..., 1] > 200) & (p[..., 2] < 80)
+    assert ray_yellow.sum() == 0

@@ -1,0 +1,137 @@
+"""The benchmark's report: ``results.csv``, a Fig. 2-style markdown table and two plots."""
+
+from __future__ import annotations
+
+import csv
+from pathlib import Path
+
+import numpy as np
+
+from placeclust.bench import RunSpec
+
+SPEC_COLUMNS = ["key", *RunSpec.__dataclass_fields__]
+METRIC_COLUMNS = ["precision", "recall", "f_measure", "nmi", "ari", "n_places", "n_rooms",
+                  "unknown_rate", "matching_rate", "mean_AC", "mean_TP", "mean_P",
+                  "ms_per_frame", "ms_p95", "ms_mean", "map_precision"]
+TABLE_KEYS = ("precision", "recall", "nmi", "ari")
+
+
+def write_csv(rows: list[dict], path: str | Path) -> None:
+    """One line per run: configuration, metrics, then the versions that produced it."""
+    columns = SPEC_COLUMNS + METRIC_COLUMNS
+    columns += sorted({k for r in rows for k in r} - set(columns) - {"kind"})
+    with open(path, "w", newline="") as f:
+        writer = csv.DictWriter(f, columns, restval="", extrasaction="ignore")
+        writer.writeheader()
+        writer.writerows(rows)
+
+
+def _methods(rows: list[dict]) -> dict[tuple[str, str, str], list[dict]]:
+    groups: dict[tuple[str, str, str], list[dict]] = {}
+    for r in rows:
+        groups.setdefault((r["algo"], r["features"], r["condition"]), []).append(r)
+    return groups
+
+
+def summary_table(rows: list[dict]) -> str:
+    """Mean ± std over worlds and tours per method and condition, as in seed 000's Fig. 2."""
+    lines = ["| method | condition | " + " | ".join(TABLE_KEYS)
+             + " | places/rooms | ms/frame | runs |", "|---" * (len(TABLE_KEYS) + 5) + "|"]
+    for (algo, feat, condition), sel in _methods(rows).items():
+        cells = [f"{np.mean([r[k] for r in sel]):.3f} ± {np.std([r[k] for r in sel]):.3f}"
+                 for k in TABLE_KEYS]
+        ratio = np.mean([r["n_places"] / r["n_rooms"] for r in sel])
+        ms = np.median([r["ms_per_frame"] for r in sel])
+        lines.append(f"| {algo} ({feat}) | {condition} | " + " | ".join(cells)
+                     + f" | {ratio:.2f} | {ms:.1f} | {len(sel)} |")
+    return "\n".join(lines)
+
+
+def latency_table(latency: list[dict]) -> str:
+    """Median ms per frame of the online recognizer at each map size."""
+    lines = ["| features | places | tracking ms | loop closure ms |", "|---|---|---|---|"]
+    for row in latency:
+        for p in row["points"]:
+            lines.append(f"| {row['features']} | {p['places']} | {p['track_ms']:.1f} | "
+                         f"{p['loop_ms']:.1f} |")
+    return "\n".join(lines)
+
+
+def plot_precision(rows: list[dict], path: str | Path) -> None:
+    """Bars of mean precision (± std) per method, one group per condition."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    groups = _methods(rows)
+    methods = list(dict.fromkeys((a, f) for a, f, _ in groups))
+    conditions = list(dict.fromkeys(li for _, _, li in groups))
+    width = 0.8 / max(1, len(conditions))
+    fig, ax = plt.subplots(figsize=(max(6.0, 0.8 * len(methods) + 2), 4), dpi=100)
+    for i, condition in enumerate(conditions):
+        xs, means, stds = [], [], []
+        for j, (algo, feat) in enumerate(methods):
+            sel = groups.get((algo, feat, condition))
+            if sel:
+                xs.append(j + (i - (len(conditions) - 1) / 2) * width)
+                means.append(np.mean([r["precision"] for r in sel]))
+                stds.append(np.std([r["precision"] for r in sel]))
+        ax.bar(xs, means, width, yerr=stds, capsize=3, label=condition)
+    ax.set_xticks(range(len(methods)), [f"{a}\n{f}" for a, f in methods], fontsize=8)
+    ax.set_ylim(0, 1.05)
+    ax.set_ylabel("clustering precision")
+    ax.set_title("clustering precision per method (mean ± std over worlds and tours)")
+    ax.legend(title="condition", fontsize=8, loc="upper left", bbox_to_anchor=(1.0, 1.0))
+    ax.grid(axis="y", alpha=0.3)
+    fig.tight_layout()
+    fig.savefig(path)
+    plt.close(fig)
+
+
+def plot_latency(latency: list[dict], path: str | Path) -> None:
+    """Median ms per frame against map size: tracking (solid) and loop closures (dashed)."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    fig, ax = plt.subplots(figsize=(6, 4), dpi=100)
+    for row in latency:
+        places = [p["places"] for p in row["points"]]
+        line = ax.plot(places, [p["track_ms"] for p in row["points"]], "o-",
+                       label=f"{row['features']} tracking")
+        ax.plot(places, [p["loop_ms"] for p in row["points"]], "s--", color=line[0].get_color(),
+                label=f"{row['features']} loop closure")
+    ax.set_xscale("log")
+    ax.set_xlabel("places in the map")
+    ax.set_ylabel("median ms per frame")
+    ax.set_title("online recognizer latency as the map grows (512×128)")
+    ax.grid(alpha=0.3)
+    ax.legend(fontsize=8)
+    fig.tight_layout()
+    fig.savefig(path)
+    plt.close(fig)
+
+
+def write_report(rows: list[dict], latency: list[dict], folder: str | Path, echo: bool = True
+                 ) -> list[dict]:
+    """Write ``results.csv``, ``results.md``, ``precision.png`` and ``latency.png``.
+
+    Returns ``rows``; prints the markdown when ``echo``.
+    """
+    folder = Path(folder)
+    write_csv(rows, folder / "results.csv")
+    parts = ["# placeclust bench", ""]
+    if rows:
+        parts += [summary_table(rows), ""]
+        plot_precision(rows, folder / "precision.png")
+    if latency:
+        parts += ["Latency as the map grows (synthetic places, 512×128):", "",
+                  latency_table(latency), ""]
+        plot_latency(latency, folder / "latency.png")
+    text = "\n".join(parts)
+    (folder / "results.md").write_text(text)
+    if echo:
+        print(text)
+    return rows

@@ -1,0 +1,152 @@
+"""``placeclust bench`` at a tiny size: files, consistency with the stored assignments, resume,
+the same rows from the process pool, in-process and Ray."""
+
+from __future__ import annotations
+
+import csv
+import json
+from dataclasses import replace
+
+import numpy as np
+import pytest
+
+from placeclust import bench
+from placeclust.bench import Matrix, RunStore, run_bench
+from placeclust.cli import main
+from placeclust.metrics import score
+
+# 2 rooms, 12 frames a room: a few seconds a tour
+TINY = Matrix(algos=("online", "kmeans"), features=("orb",), scenes=(0,), rooms=(2,),
+              conditions=("day", "day>night"), tour_seeds=(0,), steps_per_room=12,
+              latency_features=("orb",), latency_sizes=(3, 6))
+TIMING = {"ms_per_frame", "ms_p95", "ms_mean"}
+
+
+def _read_csv(path) -> list[dict]:
+    with open(path) as f:
+        return list(csv.DictReader(f))
+
+
+def _stable(rows: list[dict]) -> list[dict]:
+    """Rows without timings, the only columns that may differ between identical runs."""
+    return [{k: v for k, v in r.items() if k not in TIMING} for r in rows]
+
+
+@pytest.fixture(scope="module")
+def tiny_bench(tmp_path_factory):
+    out = tmp_path_factory.mktemp("bench")
+    rows = run_bench(TINY, out, workers=1, progress=False)
+    return out, rows
+
+
+def test_matrix_leaves_cross_condition_to_online() -> None:
+    runs = TINY.runs()
+    assert [(r.algo, r.condition) for r in runs] == [
+        ("online", "day"), ("kmeans", "day"), ("online", "day>night")]
+    assert len({r.key for r in runs}) == len(runs)
+    assert runs[0].key == replace(runs[0]).key  # a hash of the configuration, not of identity
+
+
+@pytest.mark.parametrize("bad, message", [
+    ({"algos": ("online", "dbscan")}, "unknown algos"),
+    ({"features": ("surf64",)}, "unknown features"),
+    ({"conditions": ("dusk",)}, "unknown conditions"),
+    ({"conditions": ("day>night>day",)}, "one change"),
+    ({"rooms": (0,)}, "at least 1"),
+    ({"scenes": (-1,)}, "non-negative"),
+    ({"latency_sizes": (1,)}, "at least 2"),
+])
+def test_matrix_names_bad_axes(bad: dict, message: str) -> None:
+    with pytest.raises(ValueError, match=message):
+        replace(TINY, **bad)
+
+
+def test_report_files(tiny_bench) -> None:
+    out, rows = tiny_bench
+    for name in ("results.csv", "results.md", "config.json", "precision.png", "latency.png"):
+        assert (out / name).stat().st_size > 0, name
+    import imageio.v3 as iio
+
+    for name in ("precision.png", "latency.png"):
+        img = iio.imread(out / name)
+        assert img.shape[0] >= 300 and img.shape[1] >= 500
+        assert img[..., :3].std() > 10, f"{name} is blank"
+    table = (out / "results.md").read_text()
+    assert "| online (orb) | day |" in table and "| online (orb) | day>night |" in table
+    config = json.loads((out / "config.json").read_text())
+    assert config["matrix"]["steps_per_room"] == 12 and config["versions"]["numpy"]
+
+
+def test_csv_agrees_with_stored_assignments(tiny_bench) -> None:
+    out, _ = tiny_bench
+    store = RunStore(out / "runs")
+    lines = _read_csv(out / "results.csv")
+    assert [r["key"] for r in lines] == [s.key for s in TINY.runs()]
+    for line in lines:
+        arrays = store.arrays(line["key"])
+        assert len(arrays["assignments"]) == 2 * 12  # every frame of the tour has a place
+        again = score(arrays["assignments"], arrays["truth"])
+        assert int(line["n_places"]) == again["n_places"]
+        assert float(line["nmi"]) == pytest.approx(again["nmi"])
+        if ">" not in line["condition"]:  # cross-condition precision uses the day rooms
+            assert float(line["precision"]) == pytest.approx(again["precision"])
+        assert line["numpy"] == np.__version__
+
+
+def test_resume_does_not_redo_finished_runs(tiny_bench, monkeypatch) -> None:
+    out, rows = tiny_bench
+
+    def fail(*args, **kwargs):
+        raise AssertionError("a finished run was run again")
+
+    monkeypatch.setattr(bench, "run_job", fail)
+    again = run_bench(TINY, out, workers=1, progress=False)
+    assert again == rows
+
+
+def test_damaged_run_file_is_redone(tiny_bench, tmp_path) -> None:
+    out, rows = tiny_bench
+    import shutil
+
+    copy = tmp_path / "bench"
+    shutil.copytree(out, copy)
+    key = rows[1]["key"]
+    (copy / "runs" / f"{key}.json").write_text('{"key": "trunc')  # a torn write
+    jobs, done = bench.plan_jobs(TINY, RunStore(copy / "runs"))
+    assert done == 2 + 1  # the two intact runs and the latency sweep
+    assert [s.key for j in jobs for s in j.specs] == [key]
+    redone = run_bench(TINY, copy, workers=1, progress=False)
+    assert _stable(redone) == _stable(rows)
+
+
+def test_process_pool_gives_the_same_rows(tiny_bench, tmp_path) -> None:
+    """Spawned workers give the same places and metrics as the main process (determinism)."""
+    _, rows = tiny_bench
+    pooled = run_bench(replace(TINY, latency_sizes=()), tmp_path, workers=2, progress=False)
+    assert _stable(pooled) == _stable(rows)
+
+
+def test_ray_gives_the_same_rows(tiny_bench, tmp_path) -> None:
+    ray = pytest.importorskip("ray")
+    _, rows = tiny_bench
+    try:
+        on_ray = run_bench(replace(TINY, latency_sizes=()), tmp_path, workers=2,
+                           executor="ray", progress=False)
+    finally:
+        ray.shutdown()
+    assert _stable(on_ray) == _stable(rows)
+    assert (tmp_path / "runs" / f"{rows[0]['key']}.npz").is_file()  # the driver stored them
+
+
+def test_cli_bench_rejects_bad_axes(capsys, tmp_path) -> None:
+    with pytest.raises(SystemExit) as exc:
+        main(["bench", "--quick", "--conditions", "dusk", "--out", str(tmp_path)])
+    assert exc.value.code == 2
+    assert "unknown conditions" in capsys.readouterr().err
+    assert not (tmp_path / "results.csv").exists()
+
+
+def test_condition_names_are_the_simulators():
+    from envs.changes import CONDITIONS as ENV_CONDITIONS
+
+    assert bench.CONDITIONS == tuple(ENV_CONDITIONS)
