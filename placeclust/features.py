@@ -21,6 +21,7 @@ import cv2
 import numpy as np
 
 FEATURES = ("sift", "kaze", "surf", "orb", "akaze")
+NORMALIZE = (None, "equalize", "clahe")
 
 
 @dataclass(frozen=True)
@@ -50,11 +51,20 @@ class FeatureExtractor:
     Args:
         name: feature type.
         max_features: keep the strongest ``max_features`` keypoints.
+        normalize: contrast normalization before detection: ``None``, ``"equalize"``
+            (global histogram equalization) or ``"clahe"`` (contrast-limited adaptive
+            histogram equalization, 8x2 tiles on a 4:1 panorama). It makes detection less
+            dependent on the light: at night a contrast threshold keeps other keypoints.
     """
 
-    def __init__(self, name: str = "sift", max_features: int = 500) -> None:
+    def __init__(self, name: str = "sift", max_features: int = 500,
+                 normalize: str | None = "clahe") -> None:
         if name not in FEATURES:
             raise ValueError(f"unknown feature type {name!r}; choose one of {FEATURES}")
+        if normalize not in NORMALIZE:
+            raise ValueError(f"unknown normalize {normalize!r}; choose one of {NORMALIZE}")
+        self.normalize = normalize
+        self._clahe = cv2.createCLAHE(clipLimit=2.0, tileGridSize=(8, 2))
         if max_features < 1:
             raise ValueError(f"max_features must be positive, got {max_features}")
         self.name = name
@@ -71,13 +81,18 @@ class FeatureExtractor:
             self._cv = _cv2_factory("AKAZE")()
 
     def __getstate__(self) -> dict:  # cv2 objects do not pickle; rebuild them on load
-        return {"name": self.name, "max_features": self.max_features}
+        return {"name": self.name, "max_features": self.max_features,
+                "normalize": self.normalize}
 
     def __setstate__(self, state: dict) -> None:
         self.__init__(**state)
 
     def extract(self, gray: np.ndarray) -> Features:
         """Features of a 2-D uint8 image (see :func:`placeclust.frames.to_gray`)."""
+        if self.normalize == "equalize":
+            gray = cv2.equalizeHist(gray)
+        elif self.normalize == "clahe":
+            gray = self._clahe.apply(gray)
         if self.name == "surf":
             return self._surf(gray)
         kps, desc = self._cv.detectAndCompute(gray, None)

@@ -31,11 +31,12 @@ class KAdjacentUnion:
         max_iter: iterations of steps 5-7.
         kernel_stride: every ``kernel_stride``-th frame of a cluster enters its kernel.
         kernel_capacity: features kept per kernel.
+        normalize: contrast normalization (:class:`~placeclust.features.FeatureExtractor`).
     """
 
     def __init__(self, features: str = "sift", join_similarity: float = 0.15, window: int = 15,
                  max_iter: int = 8, kernel_stride: int = 3, kernel_capacity: int = 1200,
-                 max_features: int = 500) -> None:
+                 max_features: int = 500, normalize: str | None = "clahe") -> None:
         self.features = features
         self.join_similarity = join_similarity
         self.window = window
@@ -43,12 +44,13 @@ class KAdjacentUnion:
         self.kernel_stride = kernel_stride
         self.kernel_capacity = kernel_capacity
         self.max_features = max_features
+        self.normalize = normalize
         self.graph = nx.Graph()
         self.n_iter_ = 0
 
     def fit_predict(self, frames: np.ndarray) -> np.ndarray:
         """Place id per frame, (T,) int, numbered 0..n_places-1."""
-        ext = FeatureExtractor(self.features, self.max_features)
+        ext = FeatureExtractor(self.features, self.max_features, self.normalize)
         descs = describe_all(frames, ext)
         bounds = [0, *scene_changes(descs, ext.binary, self.window).tolist(), len(descs)]
         labels = np.zeros(len(descs), np.int64)

@@ -22,7 +22,8 @@ if TYPE_CHECKING:
     from placeclust.online import OnlinePlaceClustering
 
 FORMAT = "placeclust-map"
-VERSION = 1
+# 2: the parameters include ``normalize``; version-1 maps were made from raw frames
+VERSION = 2
 
 
 def save_map(model: OnlinePlaceClustering, path: str | os.PathLike, world: str = "") -> Path:
@@ -115,7 +116,10 @@ def load_map(path: str | os.PathLike, world: str | None = None) -> OnlinePlaceCl
         raise ValueError(f"{path} holds a {meta.get('class')!r} map, not an "
                          f"{OnlinePlaceClustering.__name__} one")
     try:
-        model = OnlinePlaceClustering(**meta["params"])
+        params = dict(meta["params"])
+        if meta["version"] < 2:
+            params.setdefault("normalize", None)  # the kernels hold features of raw frames
+        model = OnlinePlaceClustering(**params)
         model.restore(
             kernels={p: (arrays[f"k{p}_desc"], arrays[f"k{p}_w"], arrays[f"k{p}_seen"],
                          meta["kernel_images"][str(p)]) for p in meta["places"]},

@@ -70,6 +70,7 @@ class NestedMapper:
         max_missed: ``N``, misses before a point's tracking is terminated.
         location_capacity: the most points a location keeps.
         ratio: Lowe's ratio for correspondences.
+        normalize: contrast normalization (:class:`~placeclust.features.FeatureExtractor`).
     """
 
     def __init__(
@@ -84,6 +85,7 @@ class NestedMapper:
         max_missed: int = 8,
         location_capacity: int = 1500,
         ratio: float = 0.8,
+        normalize: str | None = "clahe",
     ) -> None:
         self.features = features
         self.max_features = max_features
@@ -95,7 +97,8 @@ class NestedMapper:
         self.max_missed = max_missed
         self.location_capacity = location_capacity
         self.ratio = ratio
-        self._extractor = FeatureExtractor(features, max_features)
+        self.normalize = normalize
+        self._extractor = FeatureExtractor(features, max_features, normalize)
         self.locations: dict[int, Location] = {}
         self.graph = nx.Graph()  # level 1: locations
         self.view_graphs: dict[int, nx.Graph] = {}  # level 2: views of each location

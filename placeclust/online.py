@@ -60,6 +60,11 @@ class OnlinePlaceClustering:
             place", so it is looser than ``t_new_cluster``: on random drives in a 4-room world
             mapped by one tour (ORB), 0.85 left 89% of frames unknown, 0.98 none, with 99% of
             frames in their place's majority room.
+        normalize: contrast normalization before feature detection (see
+            :class:`~placeclust.features.FeatureExtractor`). The paper works on raw images;
+            CLAHE is this project's addition for COLD-like light changes: on three 4-room
+            worlds (SIFT), it raised precision from 0.87 to 0.95 under one light and, mapping
+            by day and localizing at night, from 0.76 to 0.94 (``placeclust bench``).
 
     Example:
         >>> import numpy as np
@@ -84,6 +89,7 @@ class OnlinePlaceClustering:
         index_features: int = 64,
         min_features: int = 10,
         t_localize: float = 0.98,
+        normalize: str | None = "clahe",
     ) -> None:
         if not 0.0 <= t_update_cluster < t_new_cluster < 1.0:
             raise ValueError(
@@ -100,7 +106,8 @@ class OnlinePlaceClustering:
         self.index_features = index_features
         self.min_features = min_features
         self.t_localize = t_localize
-        self._extractor = FeatureExtractor(features, max_features)
+        self.normalize = normalize
+        self._extractor = FeatureExtractor(features, max_features, normalize)
         self.kernels: dict[int, UnionKernel] = {}
         self.graph = nx.Graph()
         self.current: int = UNKNOWN

@@ -32,3 +32,34 @@ def test_cluster_cli_names_bad_input(tmp_path):
     bad = cli("--tour", str(tmp_path / "bad.npz"))
     assert bad.returncode != 0 and "'frames' must be uint8" in bad.stderr
     assert not (tmp_path / "o").exists()
+
+
+def test_bad_input_leaves_earlier_results_alone(tmp_path, two_places):
+    """A failed run names the problem, exits non-zero and keeps what an earlier run wrote."""
+    out = tmp_path / "res"
+    out.mkdir()
+    (out / "metrics.json").write_text('{"precision": 0.9}')
+    np.save(out / "assignments.npy", np.arange(3))
+    frames, truth = two_places
+    np.savez(tmp_path / "short.npz", frames=frames, room=truth[:-1])
+    np.savez(tmp_path / "noroom.npz", frames=frames)
+
+    def cli(*args):
+        return subprocess.run([sys.executable, "-m", "placeclust.cli", *args],
+                              capture_output=True, text=True)
+
+    for args, message in [
+        (("cluster", "--tour", str(tmp_path / "short.npz")), "'room' has shape"),
+        (("cluster", "--tour", str(tmp_path / "noroom.npz")), "no 'room' array"),
+        (("cluster", "--tour", str(tmp_path / "short.npz"), "--features", "surf64"),
+         "invalid choice"),
+    ]:
+        proc = cli(*args, "--out", str(out))
+        assert proc.returncode != 0 and message in proc.stderr, (args, proc.stderr)
+    assert (out / "metrics.json").read_text() == '{"precision": 0.9}'
+    assert np.array_equal(np.load(out / "assignments.npy"), np.arange(3))
+    demo = cli("demo", "--steps", "-1", "--out", str(tmp_path / "d"))
+    assert demo.returncode != 0 and "steps must be positive" in demo.stderr
+    bench = cli("bench", "--quick", "--workers", "-2", "--out", str(tmp_path / "b"))
+    assert bench.returncode != 0 and "--workers" in bench.stderr
+    assert not (tmp_path / "b").exists()

@@ -49,3 +49,20 @@ def test_binary_matching():
     np.testing.assert_array_equal(q, t)
     dist, idx = knn2(a[:2], a[:1], True)
     assert idx[0, 0] == 0 and np.isinf(dist[0, 1])
+
+
+def test_contrast_normalization_keeps_features_in_dim_light():
+    """At a third of the light SIFT loses most keypoints on raw frames, not after CLAHE."""
+    import cv2
+    import pytest
+
+    from placeclust.features import FeatureExtractor
+    from placeclust.synthetic import textured
+
+    bright = cv2.cvtColor(textured(1), cv2.COLOR_RGB2GRAY)
+    dim = (bright * 0.3).astype(np.uint8)
+    raw, clahe = FeatureExtractor("sift", normalize=None), FeatureExtractor("sift")
+    assert len(raw.extract(dim)) < 0.5 * len(raw.extract(bright))
+    assert len(clahe.extract(dim)) > 0.8 * len(clahe.extract(bright))
+    with pytest.raises(ValueError, match="unknown normalize 'gamma'"):
+        FeatureExtractor("sift", normalize="gamma")

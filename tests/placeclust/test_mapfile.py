@@ -59,6 +59,17 @@ def test_a_failed_save_leaves_the_old_map(mapped, tmp_path, monkeypatch):
     assert [p.name for p in tmp_path.iterdir()] == ["m.npz"]  # no temporary file left
 
 
+def test_version_1_maps_keep_reading_raw_frames(mapped, tmp_path):
+    """Maps written before contrast normalization existed load with ``normalize=None``."""
+    mapped.save(tmp_path / "m.npz")
+    meta, arrays = read_meta(tmp_path / "m.npz")
+    meta["version"] = 1
+    del meta["params"]["normalize"]
+    np.savez(tmp_path / "v1.npz", meta=np.array(json.dumps(meta)), **arrays)
+    assert OnlinePlaceClustering.load(tmp_path / "v1.npz").normalize is None
+    assert OnlinePlaceClustering.load(tmp_path / "m.npz").normalize == "clahe"
+
+
 def test_foreign_future_and_other_world_files_are_refused(mapped, tmp_path):
     np.savez(tmp_path / "foreign.npz", x=np.arange(3))
     with pytest.raises(ValueError, match="not a readable placeclust map|not a placeclust map"):
