@@ -38,6 +38,7 @@ from pathlib import Path
 
 import numpy as np
 
+from placeclust import __version__
 from placeclust.features import FEATURES
 from placeclust.runner import ALGORITHMS
 
@@ -62,8 +63,9 @@ class RunSpec:
 
     @property
     def key(self) -> str:
-        """A short hash of the configuration: the run's file name and resume key."""
-        text = json.dumps(asdict(self), sort_keys=True)
+        """A short hash of the configuration and the placeclust version: the run's file name
+        and resume key (a new version never reuses an old version's results)."""
+        text = json.dumps({**asdict(self), "placeclust": __version__}, sort_keys=True)
         return hashlib.sha1(text.encode()).hexdigest()[:16]
 
     @property
@@ -83,7 +85,7 @@ class Matrix:
     rooms: tuple[int, ...] = (4,)
     conditions: tuple[str, ...] = ("day", "day>night")
     tour_seeds: tuple[int, ...] = (0,)
-    steps_per_room: int = 150
+    steps_per_room: int = 100
     latency_features: tuple[str, ...] = ("sift", "orb")
     latency_sizes: tuple[int, ...] = (10, 50, 100)
     width: int = 512
@@ -142,9 +144,10 @@ def versions() -> dict[str, str]:
     """Versions of the code and libraries that produce a row (recorded in every row)."""
     from importlib.metadata import PackageNotFoundError, version
 
-    out = {"python": platform.python_version(), "machine": platform.machine()}
-    for pkg in ("placeclust", "numpy", "opencv-contrib-python-headless", "scikit-learn",
-                "scipy", "mujoco", "mahotas"):
+    out = {"placeclust": __version__, "python": platform.python_version(),
+           "machine": platform.machine()}
+    for pkg in ("numpy", "opencv-contrib-python-headless", "scikit-learn", "scipy", "mujoco",
+                "mahotas"):
         try:
             out[pkg] = version(pkg)
         except PackageNotFoundError:
@@ -201,8 +204,9 @@ class RunStore:
 # -- jobs ---------------------------------------------------------------------------------------
 
 @dataclass(frozen=True)
-class TourJob:
-    """Runs that share one tour; ``kind`` is ``"tour"`` or ``"latency"``."""
+class Job:
+    """One unit of work: ``"tour"`` (the runs that share one tour, ``specs``) or
+    ``"latency"`` (a latency sweep of ``features`` over map ``sizes``)."""
 
     kind: str
     specs: tuple[RunSpec, ...] = ()
@@ -210,7 +214,7 @@ class TourJob:
     sizes: tuple[int, ...] = ()
 
 
-def plan_jobs(matrix: Matrix, store: RunStore) -> tuple[list[TourJob], int]:
+def plan_jobs(matrix: Matrix, store: RunStore) -> tuple[list[Job], int]:
     """Jobs for the runs not yet in ``store``; also returns how many runs were already done."""
     todo: dict[tuple, list[RunSpec]] = {}
     done = 0
@@ -219,10 +223,10 @@ def plan_jobs(matrix: Matrix, store: RunStore) -> tuple[list[TourJob], int]:
             done += 1
         else:
             todo.setdefault(spec.tour, []).append(spec)
-    jobs = [TourJob("tour", tuple(specs)) for specs in todo.values()]
+    jobs = [Job("tour", tuple(specs)) for specs in todo.values()]
     for feat in matrix.latency_features:
         if matrix.latency_sizes and store.get(latency_key(feat, matrix.latency_sizes)) is None:
-            jobs.append(TourJob("latency", features=feat, sizes=tuple(matrix.latency_sizes)))
+            jobs.append(Job("latency", features=feat, sizes=tuple(matrix.latency_sizes)))
         elif matrix.latency_sizes:
             done += 1
     return jobs, done
@@ -230,11 +234,11 @@ def plan_jobs(matrix: Matrix, store: RunStore) -> tuple[list[TourJob], int]:
 
 def latency_key(features: str, sizes: tuple[int, ...]) -> str:
     """The store key of one latency sweep."""
-    text = json.dumps({"latency": features, "sizes": sorted(sizes)})
+    text = json.dumps({"latency": features, "sizes": sorted(sizes), "placeclust": __version__})
     return hashlib.sha1(text.encode()).hexdigest()[:16]
 
 
-def run_job(job: TourJob, store_dir: str | None = None) -> list[dict]:
+def run_job(job: Job, store_dir: str | None = None) -> list[dict]:
     """Run one job (in a worker process or a Ray task) and return its rows.
 
     With ``store_dir`` each run is also recorded there as soon as it finishes, so an interrupt
@@ -250,7 +254,7 @@ def run_job(job: TourJob, store_dir: str | None = None) -> list[dict]:
     return rows
 
 
-def _latency_rows(job: TourJob) -> Iterator[dict]:
+def _latency_rows(job: Job) -> Iterator[dict]:
     from placeclust.benchmark import latency_vs_map_size
 
     points = latency_vs_map_size(job.features, list(job.sizes))
@@ -315,7 +319,7 @@ def _cross_condition(spec: RunSpec, frames: np.ndarray, room: np.ndarray,
 
 # -- executing jobs -----------------------------------------------------------------------------
 
-def execute(jobs: list[TourJob], store: RunStore, workers: int = 0, executor: str = "process",
+def execute(jobs: list[Job], store: RunStore, workers: int = 0, executor: str = "process",
             ray_address: str | None = None, progress: bool = True) -> Iterator[dict]:
     """Run ``jobs`` in parallel and yield their rows as jobs finish (recorded in ``store``).
 
@@ -341,7 +345,7 @@ def execute(jobs: list[TourJob], store: RunStore, workers: int = 0, executor: st
         bar.close()
 
 
-def _execute_local(jobs: list[TourJob], store: RunStore, workers: int, _address: None
+def _execute_local(jobs: list[Job], store: RunStore, workers: int, _address: None
                    ) -> Iterator[list[dict]]:
     import multiprocessing as mp
     from concurrent.futures import ProcessPoolExecutor, as_completed
@@ -361,7 +365,7 @@ def _execute_local(jobs: list[TourJob], store: RunStore, workers: int, _address:
             raise
 
 
-def _execute_ray(jobs: list[TourJob], store: RunStore, workers: int, address: str | None
+def _execute_ray(jobs: list[Job], store: RunStore, workers: int, address: str | None
                  ) -> Iterator[list[dict]]:
     try:
         import ray

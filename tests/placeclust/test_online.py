@@ -2,9 +2,13 @@ import pickle
 
 import numpy as np
 import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+from hypothesis.extra import numpy as hnp
 
 from placeclust import UNKNOWN, OnlinePlaceClustering
 from placeclust.metrics import precision
+from placeclust.synthetic import textured
 
 
 @pytest.mark.parametrize("features", ["sift", "orb"])
@@ -84,3 +88,31 @@ def test_model_pickles_with_its_map(two_places):
     clone = pickle.loads(pickle.dumps(model))
     assert clone.n_places == model.n_places
     assert clone.predict_one(frames[1]) == model.predict_one(frames[1])
+
+
+_SHAPES = st.one_of(
+    hnp.array_shapes(min_dims=1, max_dims=4, min_side=1, max_side=12),
+    st.tuples(st.sampled_from([14, 64, 128]), st.sampled_from([14, 100, 512])),
+    st.tuples(st.sampled_from([14, 128]), st.sampled_from([20, 512]),
+              st.sampled_from([1, 2, 3, 4, 5])),
+)
+
+
+@settings(max_examples=60, deadline=None)
+@given(frame=hnp.arrays(st.sampled_from([np.uint8, np.float32, np.float64, np.int16, np.bool_]),
+                        _SHAPES))
+def test_any_array_is_a_place_an_unknown_or_a_named_error(frame):
+    """Whatever array comes in: a place id, UNKNOWN, or a ValueError; the map never breaks."""
+    model = OnlinePlaceClustering(features="orb")
+    base = textured(5)
+    assert model.learn_predict_one(base) == 0
+    before = (model.n_places, {p: len(k) for p, k in model.kernels.items()})
+    try:
+        place = model.learn_predict_one(frame)
+    except ValueError as exc:
+        assert str(exc)  # it names the problem
+        assert (model.n_places, {p: len(k) for p, k in model.kernels.items()}) == before
+    else:
+        assert place == UNKNOWN or 0 <= place < model.n_places
+        assert frame.shape[:2] == base.shape[:2]
+    assert model.learn_predict_one(base) == 0  # still recognises its place
