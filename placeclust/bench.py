@@ -31,7 +31,6 @@ import hashlib
 import json
 import os
 import platform
-import time
 from collections.abc import Iterator
 from dataclasses import asdict, dataclass, field, replace
 from pathlib import Path
@@ -298,18 +297,14 @@ def _cross_condition(spec: RunSpec, frames: np.ndarray, room: np.ndarray,
 
     Returns the place of every test frame and the metrics of the test tour.
     """
-    from placeclust.metrics import latency_summary, place_to_room, score
-    from placeclust.runner import run
+    from placeclust.metrics import place_to_room, score
+    from placeclust.runner import evaluate, localize, run
 
     mapped = run(spec.algo, frames, spec.features)
-    model, rooms_of = mapped.model, place_to_room(mapped.assignments, room)
-    model.reset_position()
-    pred, seconds = np.empty(len(test_frames), np.int64), np.empty(len(test_frames))
-    for t, frame in enumerate(test_frames):
-        start = time.perf_counter()
-        pred[t] = model.localize_one(frame)
-        seconds[t] = time.perf_counter() - start
-    metrics = {**score(pred, test_room), **latency_summary(seconds)}
+    rooms_of = place_to_room(mapped.assignments, room)
+    mapped.model.reset_position()
+    tested = localize(mapped.model, test_frames)
+    pred, metrics = tested.assignments, evaluate(tested, test_room)
     # precision against the rooms the places were mapped in, not the test tour's own majority
     metrics["precision"] = float(np.mean([rooms_of.get(int(p), -1) == r
                                           for p, r in zip(pred, test_room)]))

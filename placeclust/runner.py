@@ -45,14 +45,24 @@ def run(algo: str, frames: np.ndarray, features: str = "sift", progress: bool = 
         labels = np.asarray(model.fit_predict(frames), np.int64)
         per_frame = (time.perf_counter() - start) / max(1, len(frames))
         return Result(labels, np.full(len(frames), per_frame), model, np.ones(len(frames), bool))
+    return _one_at_a_time(model, model.learn_predict_one, frames, progress, algo)
+
+
+def localize(model: object, frames: np.ndarray, progress: bool = False) -> Result:
+    """Track ``frames`` on ``model``'s fixed map (``localize_one``: no place is learnt)."""
+    return _one_at_a_time(model, model.localize_one, frames, progress, "localize")
+
+
+def _one_at_a_time(model: object, step, frames: np.ndarray, progress: bool, desc: str
+                   ) -> Result:
     from tqdm import tqdm
 
     labels = np.empty(len(frames), np.int64)
     lat = np.empty(len(frames))
     localized = np.ones(len(frames), bool)
-    for t, frame in enumerate(tqdm(frames, disable=not progress, desc=algo, unit="frame")):
+    for t, frame in enumerate(tqdm(frames, disable=not progress, desc=desc, unit="frame")):
         start = time.perf_counter()
-        labels[t] = model.learn_predict_one(frame)
+        labels[t] = step(frame)
         lat[t] = time.perf_counter() - start
         localized[t] = getattr(model, "last_was_keyframe", True)
     return Result(labels, lat, model, localized)
