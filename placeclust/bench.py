@@ -105,6 +105,11 @@ class Matrix:
         if min(self.latency_sizes, default=2) < 2:
             raise ValueError("latency_sizes must be at least 2 places")
 
+    @property
+    def latency_sweeps(self) -> tuple[str, ...]:
+        """The feature types swept for the latency plot (none without map sizes)."""
+        return self.latency_features if self.latency_sizes else ()
+
     def runs(self) -> list[RunSpec]:
         """Every run of the matrix, in table order (cross-condition runs only for online)."""
         out = []
@@ -223,10 +228,10 @@ def plan_jobs(matrix: Matrix, store: RunStore) -> tuple[list[Job], int]:
         else:
             todo.setdefault(spec.tour, []).append(spec)
     jobs = [Job("tour", tuple(specs)) for specs in todo.values()]
-    for feat in matrix.latency_features:
-        if matrix.latency_sizes and store.get(latency_key(feat, matrix.latency_sizes)) is None:
+    for feat in matrix.latency_sweeps:
+        if store.get(latency_key(feat, matrix.latency_sizes)) is None:
             jobs.append(Job("latency", features=feat, sizes=tuple(matrix.latency_sizes)))
-        elif matrix.latency_sizes:
+        else:
             done += 1
     return jobs, done
 
@@ -400,6 +405,5 @@ def run_bench(matrix: Matrix, out: str | os.PathLike, workers: int = 0, executor
     for _ in execute(jobs, store, workers, executor, ray_address, progress):
         pass
     rows = [store.get(spec.key) for spec in matrix.runs()]
-    latency = [store.get(latency_key(f, matrix.latency_sizes)) for f in matrix.latency_features
-               if matrix.latency_sizes]
+    latency = [store.get(latency_key(f, matrix.latency_sizes)) for f in matrix.latency_sweeps]
     return write_report([r for r in rows if r], [r for r in latency if r], folder, progress)

@@ -101,8 +101,6 @@ def cmd_bench(args: argparse.Namespace) -> None:
         ("latency_sizes", args.latency_sizes)) if value is not None}
     if args.steps_per_room is not None:
         overrides["steps_per_room"] = args.steps_per_room
-    if args.latency_sizes == []:  # no sweep
-        overrides["latency_features"] = ()
     if args.workers < 0:
         raise ValueError(f"--workers must be 0 (one per core) or more, got {args.workers}")
     matrix = replace(PRESETS[preset], **overrides)
