@@ -31,7 +31,7 @@ bench: $(VENV)/.installed
 
 # 20,000 steps in a 12-room world with the online recognizer in the loop
 bench-long: $(VENV)/.installed
-	$(PY) -m envs.longrun --steps 20000 --rooms 12 --features orb
+	$(PY) -m envs.longrun --steps 20000 --rooms 12
 
 bench-env: $(VENV)/.installed
 	$(PY) -m envs.benchmark

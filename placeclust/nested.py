@@ -59,6 +59,14 @@ class NestedMapper:
 
     The paper leaves the termination limit ``N`` open; ``max_missed`` = 8 key frames here.
 
+    The paper's 25 matches were set for a forward camera, whose view breaks at a door. A 360°
+    panorama keeps part of the last room in view, and a location holds the points of its last
+    ``max_missed`` key frames, so consecutive key frames always share far more than 25 points.
+    Measured on 3,000 frames of a 12-room simulated tour (SIFT, 661 key frames): the best
+    location's matches were never below 129 within 15 frames of a room change, and as low as
+    110 elsewhere, so no count separates rooms cleanly. With 25 the mapper keeps one location;
+    ``min_matches=200`` gives 30 locations at precision 0.87 and NMI 0.77.
+
     Args:
         features: local features (the paper uses SIFT).
         max_features: features per frame.

@@ -50,6 +50,11 @@ class OnlinePlaceClustering:
         t_new_cluster: ``T_New_Cluster`` on ``1 - Eq. 4``.
         t_update_cluster: ``T_Update_Cluster`` on ``1 - Eq. 4``.
         kernel_capacity: the most features a kernel keeps (Sec. III.B pruning).
+        max_places: the most places the map holds, or ``None`` for no limit (the paper). A
+            full map stops growing: a frame that would open a place is localized instead, as
+            by :meth:`localize_one`, and changes nothing. Kernels are capped too, so memory and
+            latency are bounded for any run length and any feature type (ORB keeps opening
+            places on new paths through known rooms, see ``envs.longrun``).
         ratio: Lowe's ratio for correspondences (Eq. 3).
         relocalize: search the whole map when no neighbour matches (see above).
         shortlist: places checked exactly after an index query.
@@ -83,6 +88,7 @@ class OnlinePlaceClustering:
         t_new_cluster: float = 0.85,
         t_update_cluster: float = 0.6,
         kernel_capacity: int = 1200,
+        max_places: int | None = None,
         ratio: float = 0.8,
         relocalize: bool = True,
         shortlist: int = 3,
@@ -95,11 +101,14 @@ class OnlinePlaceClustering:
             raise ValueError(
                 "need 0 <= t_update_cluster < t_new_cluster < 1 (Sec. IV), got "
                 f"t_update_cluster={t_update_cluster}, t_new_cluster={t_new_cluster}")
+        if max_places is not None and max_places < 1:
+            raise ValueError(f"max_places must be at least 1 or None, got {max_places}")
         self.features = features
         self.max_features = max_features
         self.t_new_cluster = t_new_cluster
         self.t_update_cluster = t_update_cluster
         self.kernel_capacity = kernel_capacity
+        self.max_places = max_places
         self.ratio = ratio
         self.relocalize = relocalize
         self.shortlist = shortlist
@@ -137,6 +146,8 @@ class OnlinePlaceClustering:
             return self._new_place(desc)
         place, distance, matches = self._nearest(desc)
         if distance > self.t_new_cluster:
+            if self.map_full:
+                return self._localized(place, distance)
             return self._new_place(desc)
         if place != self.current and self.current != UNKNOWN:
             self.graph.add_edge(self.current, place)  # a loop closure when they were not adjacent
@@ -157,11 +168,7 @@ class OnlinePlaceClustering:
         desc = self._describe(frame)
         if desc is None or not self.kernels:
             return UNKNOWN
-        place, distance, _ = self._nearest(desc)
-        if distance > self.t_localize:
-            return UNKNOWN
-        self.current = place
-        return place
+        return self._localized(*self._nearest(desc)[:2])
 
     def reset_position(self) -> None:
         """Forget where the robot is (it was carried elsewhere): the next frame is searched in
@@ -172,6 +179,11 @@ class OnlinePlaceClustering:
     @property
     def n_places(self) -> int:
         return len(self.kernels)
+
+    @property
+    def map_full(self) -> bool:
+        """Whether the map holds ``max_places`` places and opens no more."""
+        return self.max_places is not None and len(self.kernels) >= self.max_places
 
     # -- map persistence ---------------------------------------------------------------------
 
@@ -252,6 +264,13 @@ class OnlinePlaceClustering:
         votes = self._index.votes(desc)
         ranked = sorted(votes, key=lambda p: (-votes[p], p))
         return [p for p in ranked if p not in exclude][: self.shortlist]
+
+    def _localized(self, place: int, distance: float) -> int:
+        """Place the robot at ``place`` if within ``t_localize``, else report UNKNOWN."""
+        if distance > self.t_localize:
+            return UNKNOWN
+        self.current = place
+        return place
 
     def _new_place(self, desc: np.ndarray) -> int:
         place = len(self.kernels)

@@ -12,6 +12,14 @@ def test_long_run_reports_every_window():
     assert last["places"] >= 1 and last["kernel_features"] > 0 and last["rss_mb"] > 0
     assert 0.0 < last["precision"] <= 1.0
     assert all(r["ms_median"] > 0 for r in rows)
+    # the places opened per window add up to the map: the column that shows saturation
+    assert sum(r["new_places"] for r in rows) == last["places"]
+
+
+def test_a_capped_map_stays_at_its_cap():
+    rows = long_run(steps=30, n_rooms=2, features="orb", window=10, progress=False,
+                    max_places=1)
+    assert all(r["places"] == 1 for r in rows)
 
 
 def test_long_run_cli_refuses_negative_steps(capsys):

@@ -106,3 +106,38 @@ def test_truncated_or_corrupt_files_give_a_clear_error(mapped, tmp_path, cut, fl
     else:  # a flipped byte in descriptor data is not detectable; the map must still be whole
         assert loaded.n_places == mapped.n_places
 
+
+
+_SAVER = """
+import sys
+from placeclust import OnlinePlaceClustering
+from placeclust.synthetic import textured
+small, big = OnlinePlaceClustering(features="orb"), OnlinePlaceClustering(features="orb")
+for s in (1, 2):
+    small.learn_one(textured(s))
+for s in (1, 2, 3, 4):
+    big.learn_one(textured(s))
+small.save(sys.argv[1])
+print("saved", flush=True)
+while True:  # replace the map over and over until killed
+    big.save(sys.argv[1])
+    small.save(sys.argv[1])
+"""
+
+
+def test_a_map_killed_mid_save_is_the_old_or_the_new_one(tmp_path):
+    """SIGKILL while saving in a loop: the file on disk is always one whole map."""
+    import signal
+    import subprocess
+    import sys
+    import time
+
+    path = tmp_path / "m.npz"
+    for delay in (0.05, 0.2, 0.5):
+        proc = subprocess.Popen([sys.executable, "-c", _SAVER, str(path)],
+                                stdout=subprocess.PIPE, text=True)
+        assert proc.stdout.readline().strip() == "saved"
+        time.sleep(delay)
+        proc.send_signal(signal.SIGKILL)
+        proc.wait()
+        assert OnlinePlaceClustering.load(path).n_places in (2, 4)

@@ -40,6 +40,20 @@ def test_revisiting_a_non_neighbour_closes_a_loop(two_places):
     assert OnlinePlaceClustering(relocalize=False).relocalize is False
 
 
+def test_a_full_map_stops_growing_and_still_recognises(two_places):
+    frames, _ = two_places
+    model = OnlinePlaceClustering(features="orb", max_places=2)
+    assert [model.learn_predict_one(f) for f in (frames[0], frames[30])] == [0, 1]
+    assert model.map_full
+    sizes = {p: len(k) for p, k in model.kernels.items()}
+    other = textured(7)  # would open a place: a full map localizes it instead
+    assert model.learn_predict_one(other) == pickle.loads(pickle.dumps(model)).localize_one(other)
+    assert model.n_places == 2 and {p: len(k) for p, k in model.kernels.items()} == sizes
+    assert model.learn_predict_one(frames[1]) == 0  # known places are still recognised
+    with pytest.raises(ValueError, match="max_places"):
+        OnlinePlaceClustering(max_places=0)
+
+
 def test_predict_one_does_not_learn(two_places):
     frames, _ = two_places
     model = OnlinePlaceClustering()
