@@ -43,8 +43,10 @@ class PlaceIdWrapper(gym.ObservationWrapper, gym.utils.RecordConstructorArgs):
     ``place_id`` is ``Discrete(max_places + 1)`` (or its one-hot ``Box`` with ``one_hot=True``):
     places ``0 .. max_places - 1`` as the recognizer numbers them, and the reserved value
     ``max_places`` for "unknown": a featureless frame, a frame that matches no place of a fixed
-    map, or a place the recognizer opened after ``max_places`` were taken (the map is full;
-    ``info["map_full"]`` says so, and the recognizer keeps mapping).
+    map, or a place a recognizer of your own opened after ``max_places`` were taken (the map is
+    full; ``info["map_full"]`` says so, and such a recognizer keeps mapping). The default
+    recognizer is capped at ``max_places`` (``OnlinePlaceClustering(max_places=...)``): once
+    full it localizes frames on its map instead of opening places no observation could name.
 
     The map persists across episodes by default, so place ids stay stable while an agent learns.
     Because ``reset`` carries the robot away, the recognizer forgets where it was and searches the
@@ -53,7 +55,8 @@ class PlaceIdWrapper(gym.ObservationWrapper, gym.utils.RecordConstructorArgs):
     Args:
         env: an env whose observation is a ``Dict`` with a ``panorama``.
         recognizer: the recognizer; default a fresh :class:`~placeclust.OnlinePlaceClustering`
-            with ORB features (fast enough for training). Pass a loaded map
+            with ORB features (fast enough for training) and at most ``max_places`` places.
+            Pass a loaded map
             (``OnlinePlaceClustering.load``) to start from it.
         max_places: places the observation can name.
         one_hot: one-hot ``Box`` instead of ``Discrete``.
@@ -83,7 +86,8 @@ class PlaceIdWrapper(gym.ObservationWrapper, gym.utils.RecordConstructorArgs):
                              "(create the env with panorama=True)")
         if max_places < 1:
             raise ValueError(f"max_places must be at least 1, got {max_places}")
-        recognizer = recognizer if recognizer is not None else OnlinePlaceClustering("orb")
+        if recognizer is None:
+            recognizer = OnlinePlaceClustering("orb", max_places=max_places)
         if not learn and not hasattr(recognizer, "localize_one"):
             raise ValueError(f"learn=False needs a recognizer with localize_one(); "
                              f"{type(recognizer).__name__} has none")
@@ -124,7 +128,8 @@ class PlaceIdWrapper(gym.ObservationWrapper, gym.utils.RecordConstructorArgs):
                else self.recognizer.localize_one(frame))
         value = raw if 0 <= raw < self.max_places else self.unknown
         self._last = {"place_id": int(raw), "n_places": self.recognizer.n_places,
-                      "map_full": bool(raw >= self.max_places)}
+                      "map_full": bool(raw >= self.max_places
+                                       or getattr(self.recognizer, "map_full", False))}
         if self.timing:
             self._last["place_ms"] = 1000.0 * (time.perf_counter() - start)
         return {**observation, "place_id": _encode(value, self.max_places + 1, self.one_hot)}

@@ -85,6 +85,15 @@ def test_map_full_and_no_place_read_as_the_reserved_value(task):
     assert obs["place_id"] == 2 and info["place_id"] == UNKNOWN and not info["map_full"]
 
 
+def test_the_default_recognizer_never_outgrows_the_observation(task):
+    w = PlaceIdWrapper(task, max_places=1)
+    w.reset(seed=0)
+    for _ in range(30):  # drives far enough to open several places uncapped
+        obs, _, _, _, info = w.step(np.array([1.0, 0.6], np.float32))
+    assert info["n_places"] == 1 and info["map_full"]
+    assert obs["place_id"] in (0, 1)  # localized on the one place, or unknown
+
+
 def test_fixed_map_localizes_without_learning(task, tmp_path):
     mapper = PlaceIdWrapper(task)
     mapper.reset(seed=0)
