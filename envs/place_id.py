@@ -56,8 +56,7 @@ class PlaceIdWrapper(gym.ObservationWrapper, gym.utils.RecordConstructorArgs):
         env: an env whose observation is a ``Dict`` with a ``panorama``.
         recognizer: the recognizer; default a fresh :class:`~placeclust.OnlinePlaceClustering`
             with ORB features (fast enough for training) and at most ``max_places`` places.
-            Pass a loaded map
-            (``OnlinePlaceClustering.load``) to start from it.
+            Pass a loaded map (``OnlinePlaceClustering.load``) to start from it.
         max_places: places the observation can name.
         one_hot: one-hot ``Box`` instead of ``Discrete``.
         learn: update the map from each frame; ``False`` localizes on a fixed map (needs the

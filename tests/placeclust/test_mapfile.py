@@ -1,4 +1,8 @@
 import json
+import signal
+import subprocess
+import sys
+import time
 
 import networkx as nx
 import numpy as np
@@ -107,7 +111,6 @@ def test_truncated_or_corrupt_files_give_a_clear_error(mapped, tmp_path, cut, fl
         assert loaded.n_places == mapped.n_places
 
 
-
 _SAVER = """
 import sys
 from placeclust import OnlinePlaceClustering
@@ -127,11 +130,6 @@ while True:  # replace the map over and over until killed
 
 def test_a_map_killed_mid_save_is_the_old_or_the_new_one(tmp_path):
     """SIGKILL while saving in a loop: the file on disk is always one whole map."""
-    import signal
-    import subprocess
-    import sys
-    import time
-
     path = tmp_path / "m.npz"
     for delay in (0.05, 0.2, 0.5):
         proc = subprocess.Popen([sys.executable, "-c", _SAVER, str(path)],
