@@ -38,6 +38,7 @@ from pathlib import Path
 import numpy as np
 
 from placeclust import __version__
+from placeclust.atomic import write_atomic
 from placeclust.features import FEATURES
 from placeclust.runner import ALGORITHMS
 
@@ -190,13 +191,9 @@ class RunStore:
         row = dict(row)
         arrays = {k: np.asarray(row.pop(k)) for k in ARRAYS if k in row}
         if arrays:
-            tmp = self.folder / f"{row['key']}.tmp{os.getpid()}.npz"
-            np.savez(tmp, **arrays)
-            os.replace(tmp, self.folder / f"{row['key']}.npz")
-        path = self.folder / f"{row['key']}.json"
-        tmp = path.with_suffix(f".tmp{os.getpid()}")
-        tmp.write_text(json.dumps(row, indent=1, sort_keys=True))
-        os.replace(tmp, path)
+            write_atomic(self.folder / f"{row['key']}.npz", lambda f: np.savez(f, **arrays))
+        text = json.dumps(row, indent=1, sort_keys=True).encode()
+        write_atomic(self.folder / f"{row['key']}.json", lambda f: f.write(text))
         self._cache[row["key"]] = row
 
     def arrays(self, key: str) -> dict[str, np.ndarray]:

@@ -11,12 +11,13 @@ from __future__ import annotations
 
 import json
 import os
-import tempfile
 import zipfile
 from pathlib import Path
 from typing import TYPE_CHECKING
 
 import numpy as np
+
+from placeclust.atomic import write_atomic
 
 if TYPE_CHECKING:
     from placeclust.online import OnlinePlaceClustering
@@ -59,20 +60,7 @@ def save_map(model: OnlinePlaceClustering, path: str | os.PathLike, world: str =
     for p, k in model.kernels.items():
         arrays[f"k{p}_desc"], arrays[f"k{p}_w"], arrays[f"k{p}_seen"] = (
             k.descriptors, k.weights, k.last_seen)
-    fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent)
-    try:
-        with os.fdopen(fd, "wb") as f:
-            np.savez(f, **arrays)
-            f.flush()
-            os.fsync(f.fileno())
-        umask = os.umask(0)
-        os.umask(umask)
-        os.chmod(tmp, 0o666 & ~umask)  # mkstemp makes it private; a map is an ordinary file
-        os.replace(tmp, path)
-    except BaseException:
-        Path(tmp).unlink(missing_ok=True)
-        raise
-    return path
+    return write_atomic(path, lambda f: np.savez(f, **arrays))
 
 
 def read_meta(path: str | os.PathLike) -> tuple[dict, dict[str, np.ndarray]]:
