@@ -12,6 +12,7 @@ from __future__ import annotations
 import json
 import math
 from pathlib import Path
+from typing import Any
 
 import gymnasium as gym
 import numpy as np
@@ -26,11 +27,13 @@ EDGES_FILE = "map_edges.json"
 
 def build_map(out: str | Path, scene_seed: int = 0, n_rooms: int = 4, features: str = "orb",
               steps: int = 1500, seed: int = 0, progress: bool = True,
-              **world: object) -> Path:
+              recognizer: dict[str, Any] | None = None, **world: object) -> Path:
     """Drive a tour, map it, and write ``map.npz`` and ``map_edges.json`` into ``out``.
 
-    ``world`` takes more ``PlaceNav-v0`` arguments (``panorama_width``, ``extra_doors``...);
-    the map only fits envs made with the same ones.
+    ``recognizer`` takes more :class:`~placeclust.OnlinePlaceClustering` arguments (the
+    training config's ``map`` section: ``t_new_cluster``...). ``world`` takes more
+    ``PlaceNav-v0`` arguments (``panorama_width``, ``extra_doors``...); the map only fits envs
+    made with the same ones.
 
     Returns:
         The path of the map file.
@@ -44,7 +47,7 @@ def build_map(out: str | Path, scene_seed: int = 0, n_rooms: int = 4, features: 
         world = env.unwrapped.world_id
     finally:
         env.close()
-    model = OnlinePlaceClustering(features)
+    model = OnlinePlaceClustering(features, **(recognizer or {}))
     places = np.array([model.learn_predict_one(f) for f in tour.frames])
     model.save(out / MAP_FILE, world=world)
     edges = edge_headings(places, tour.pose[:, 2])

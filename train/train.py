@@ -13,6 +13,7 @@ from __future__ import annotations
 import argparse
 import functools
 import json
+import os
 import shutil
 import sys
 import time
@@ -38,13 +39,17 @@ def load_config(agent: str, path: Path = HYPERPARAMS) -> dict[str, Any]:
 
 
 def prepare_map(agent: str, out: Path, env_cfg: dict[str, Any], given: Path | None,
-                progress: bool) -> Path | None:
-    """The map file the agent localizes on (copied into ``out`` so the run is self-contained)."""
+                progress: bool, map_cfg: dict[str, Any] | None = None) -> Path | None:
+    """The map file the agent localizes on (copied into ``out`` so the run is self-contained).
+
+    Without ``given``, a new map is built (:func:`train.mapping.build_map`) with the
+    recognizer arguments ``map_cfg`` (the config's ``map`` section).
+    """
     if agent not in ("place", "planner"):
         return None
     if given is None:
         return build_map(out, env_cfg.get("scene_seed", 0), env_cfg.get("n_rooms", 4),
-                         progress=progress)
+                         progress=progress, recognizer=map_cfg)
     for name in (MAP_FILE, EDGES_FILE):
         if Path(given, name).resolve() != Path(out, name).resolve():
             shutil.copy(Path(given, name), out / name)
@@ -55,6 +60,7 @@ def train(agent: str, seed: int = 0, out: Path | None = None, timesteps: int | N
           n_envs: int | None = None, map_dir: Path | None = None, progress: bool = True,
           config_path: Path = HYPERPARAMS) -> Path:
     """Train ``agent`` and return the path of the saved policy."""
+    import torch
     from stable_baselines3 import PPO
     from stable_baselines3.common.callbacks import CheckpointCallback
     from stable_baselines3.common.env_util import make_vec_env
@@ -65,6 +71,7 @@ def train(agent: str, seed: int = 0, out: Path | None = None, timesteps: int | N
         raise ValueError(f"unknown agent {agent!r}; trainable agents are {TRAINABLE}")
     cfg = load_config(agent, config_path)
     env_cfg = dict(cfg.pop("env", {}))
+    map_cfg = dict(cfg.pop("map", {}))
     # the command line overrides the file; the rest of cfg goes to PPO
     file_n_envs, file_timesteps = cfg.pop("n_envs", 1), cfg.pop("n_timesteps", None)
     n_envs, timesteps = n_envs or file_n_envs, timesteps or file_timesteps
@@ -73,10 +80,17 @@ def train(agent: str, seed: int = 0, out: Path | None = None, timesteps: int | N
     policy = cfg.pop("policy")
     out = Path(out or f"runs/train/{agent}_s{seed}")
     out.mkdir(parents=True, exist_ok=True)
-    map_path = prepare_map(agent, out, env_cfg, map_dir, progress)
+    map_path = prepare_map(agent, out, env_cfg, map_dir, progress, map_cfg)
     (out / "config.yml").write_text(yaml.safe_dump(
         {"agent": agent, "seed": seed, "n_envs": n_envs, "n_timesteps": timesteps,
-         "policy": policy, "env": env_cfg, **cfg}))
+         "policy": policy, "env": env_cfg, "map": map_cfg, **cfg}))
+    if n_envs > 1:
+        # The workers fill the cores. A multi-threaded torch here, or OpenBLAS in a worker, spins
+        # idle OpenMP threads that starve the others: with 2 workers on 2 cores the place agent
+        # ran at 53-57 steps/s with the default threads, 72-75 with one each. Workers are spawned
+        # below and inherit the variable; a value the user set wins.
+        torch.set_num_threads(1)
+        os.environ.setdefault("OMP_NUM_THREADS", "1")
     # spawned workers: a worker forked from a process that has rendered deadlocks in Mesa's EGL
     venv = make_vec_env(functools.partial(make_env, agent, map_path=map_path, **env_cfg),
                         n_envs=n_envs, seed=seed,

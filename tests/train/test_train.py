@@ -75,3 +75,14 @@ def test_planner_runs_on_the_recognizers_graph():
 def test_shipped_map_matches_the_default_world():
     env = make_env("place", map_path=Path(POLICIES) / "map.npz")
     env.close()
+
+
+def test_build_map_takes_the_configs_recognizer_arguments(tmp_path):
+    from placeclust import OnlinePlaceClustering
+    from train.mapping import build_map
+
+    path = build_map(tmp_path, steps=30, progress=False, recognizer={"t_new_cluster": 0.92})
+    model = OnlinePlaceClustering.load(path)
+    assert model.t_new_cluster == 0.92 and model.n_places >= 1
+    # the shipped config builds the place agent's map with the threshold it documents
+    assert load_config("place")["map"] == {"t_new_cluster": 0.92}
