@@ -11,12 +11,14 @@ config, the place map (``place`` agent: built from a scripted tour unless ``--ma
 from __future__ import annotations
 
 import argparse
+import contextlib
 import functools
 import json
 import os
 import shutil
 import sys
 import time
+from collections.abc import Iterator
 from pathlib import Path
 from typing import Any
 
@@ -60,13 +62,6 @@ def train(agent: str, seed: int = 0, out: Path | None = None, timesteps: int | N
           n_envs: int | None = None, map_dir: Path | None = None, progress: bool = True,
           config_path: Path = HYPERPARAMS) -> Path:
     """Train ``agent`` and return the path of the saved policy."""
-    import torch
-    from stable_baselines3 import PPO
-    from stable_baselines3.common.callbacks import CheckpointCallback
-    from stable_baselines3.common.env_util import make_vec_env
-    from stable_baselines3.common.logger import configure
-    from stable_baselines3.common.vec_env import DummyVecEnv, SubprocVecEnv
-
     if agent not in TRAINABLE:
         raise ValueError(f"unknown agent {agent!r}; trainable agents are {TRAINABLE}")
     cfg = load_config(agent, config_path)
@@ -83,14 +78,54 @@ def train(agent: str, seed: int = 0, out: Path | None = None, timesteps: int | N
     map_path = prepare_map(agent, out, env_cfg, map_dir, progress, map_cfg)
     (out / "config.yml").write_text(yaml.safe_dump(
         {"agent": agent, "seed": seed, "n_envs": n_envs, "n_timesteps": timesteps,
-         "policy": policy, "env": env_cfg, "map": map_cfg, **cfg}))
-    if n_envs > 1:
-        # The workers fill the cores. A multi-threaded torch here, or OpenBLAS in a worker, spins
-        # idle OpenMP threads that starve the others: with 2 workers on 2 cores the place agent
-        # ran at 53-57 steps/s with the default threads, 72-75 with one each. Workers are spawned
-        # below and inherit the variable; a value the user set wins.
-        torch.set_num_threads(1)
-        os.environ.setdefault("OMP_NUM_THREADS", "1")
+         "policy": policy, "env": env_cfg, **_map_record(map_path, map_dir, map_cfg), **cfg}))
+    with _one_thread_each(n_envs > 1):
+        return _learn(agent, seed, out, timesteps, n_envs, map_path, env_cfg, policy, cfg,
+                      progress)
+
+
+def _map_record(map_path: Path | None, given: Path | None, map_cfg: dict[str, Any]
+                ) -> dict[str, Any]:
+    """What config.yml says about the map: none, the arguments it was built with, or its source."""
+    if map_path is None:
+        return {}
+    return {"map": map_cfg if given is None else {"copied_from": str(given)}}
+
+
+@contextlib.contextmanager
+def _one_thread_each(enabled: bool) -> Iterator[None]:
+    """One thread for torch here and for OpenMP/OpenBLAS in workers spawned meanwhile.
+
+    When the workers fill the cores, a multi-threaded torch in the learner, or OpenBLAS in a
+    worker, spins idle OpenMP threads that starve the others: with 2 workers on 2 cores the
+    place agent ran at 53-57 steps/s with the default threads, 72-75 with one each. A
+    ``OMP_NUM_THREADS`` the user set wins; both settings are restored afterwards.
+    """
+    import torch
+
+    if not enabled:
+        yield
+        return
+    threads, omp = torch.get_num_threads(), os.environ.get("OMP_NUM_THREADS")
+    torch.set_num_threads(1)
+    os.environ.setdefault("OMP_NUM_THREADS", "1")
+    try:
+        yield
+    finally:
+        torch.set_num_threads(threads)
+        if omp is None:
+            os.environ.pop("OMP_NUM_THREADS", None)
+
+
+def _learn(agent: str, seed: int, out: Path, timesteps: int, n_envs: int,
+           map_path: Path | None, env_cfg: dict[str, Any], policy: str, cfg: dict[str, Any],
+           progress: bool) -> Path:
+    from stable_baselines3 import PPO
+    from stable_baselines3.common.callbacks import CheckpointCallback
+    from stable_baselines3.common.env_util import make_vec_env
+    from stable_baselines3.common.logger import configure
+    from stable_baselines3.common.vec_env import DummyVecEnv, SubprocVecEnv
+
     # spawned workers: a worker forked from a process that has rendered deadlocks in Mesa's EGL
     venv = make_vec_env(functools.partial(make_env, agent, map_path=map_path, **env_cfg),
                         n_envs=n_envs, seed=seed,

@@ -86,3 +86,21 @@ def test_build_map_takes_the_configs_recognizer_arguments(tmp_path):
     assert model.t_new_cluster == 0.92 and model.n_places >= 1
     # the shipped config builds the place agent's map with the threshold it documents
     assert load_config("place")["map"] == {"t_new_cluster": 0.92}
+
+
+def test_single_threaded_training_restores_the_threads(monkeypatch):
+    import os
+
+    import torch
+
+    from train.train import _one_thread_each
+
+    monkeypatch.delenv("OMP_NUM_THREADS", raising=False)
+    before = torch.get_num_threads()
+    with _one_thread_each(True):
+        assert torch.get_num_threads() == 1 and os.environ["OMP_NUM_THREADS"] == "1"
+    assert torch.get_num_threads() == before and "OMP_NUM_THREADS" not in os.environ
+    monkeypatch.setenv("OMP_NUM_THREADS", "2")  # a user's choice wins and survives
+    with _one_thread_each(True):
+        assert os.environ["OMP_NUM_THREADS"] == "2"
+    assert os.environ["OMP_NUM_THREADS"] == "2"
