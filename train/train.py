@@ -62,6 +62,12 @@ def train(agent: str, seed: int = 0, out: Path | None = None, timesteps: int | N
           n_envs: int | None = None, map_dir: Path | None = None, progress: bool = True,
           config_path: Path = HYPERPARAMS) -> Path:
     """Train ``agent`` and return the path of the saved policy."""
+    from stable_baselines3 import PPO
+    from stable_baselines3.common.callbacks import CheckpointCallback
+    from stable_baselines3.common.env_util import make_vec_env
+    from stable_baselines3.common.logger import configure
+    from stable_baselines3.common.vec_env import DummyVecEnv, SubprocVecEnv
+
     if agent not in TRAINABLE:
         raise ValueError(f"unknown agent {agent!r}; trainable agents are {TRAINABLE}")
     cfg = load_config(agent, config_path)
@@ -80,8 +86,26 @@ def train(agent: str, seed: int = 0, out: Path | None = None, timesteps: int | N
         {"agent": agent, "seed": seed, "n_envs": n_envs, "n_timesteps": timesteps,
          "policy": policy, "env": env_cfg, **_map_record(map_path, map_dir, map_cfg), **cfg}))
     with _one_thread_each(n_envs > 1):
-        return _learn(agent, seed, out, timesteps, n_envs, map_path, env_cfg, policy, cfg,
-                      progress)
+        # spawned workers: a worker forked from a process that has rendered deadlocks in
+        # Mesa's EGL
+        venv = make_vec_env(functools.partial(make_env, agent, map_path=map_path, **env_cfg),
+                            n_envs=n_envs, seed=seed,
+                            vec_env_cls=SubprocVecEnv if n_envs > 1 else DummyVecEnv,
+                            vec_env_kwargs={"start_method": "spawn"} if n_envs > 1 else None,
+                            monitor_kwargs={"info_keywords": ("is_success",)})
+        model = PPO(policy, venv, seed=seed, device="cpu", verbose=0, **cfg)
+        model.set_logger(configure(str(out), ["csv", "stdout"] if progress else ["csv"]))
+        checkpoints = CheckpointCallback(max(timesteps // 10 // n_envs, 1),
+                                         str(out / "checkpoints"), name_prefix="ppo")
+        start = time.perf_counter()
+        model.learn(timesteps, callback=checkpoints, progress_bar=progress)
+        minutes = (time.perf_counter() - start) / 60
+        venv.close()
+    model.save(out / "policy.zip")
+    (out / "train_info.json").write_text(json.dumps(
+        {"agent": agent, "seed": seed, "timesteps": timesteps, "n_envs": n_envs,
+         "minutes": round(minutes, 2), "versions": _versions()}, indent=2))
+    return out / "policy.zip"
 
 
 def _map_record(map_path: Path | None, given: Path | None, map_cfg: dict[str, Any]
@@ -117,34 +141,6 @@ def _one_thread_each(enabled: bool) -> Iterator[None]:
             os.environ.pop("OMP_NUM_THREADS", None)
 
 
-def _learn(agent: str, seed: int, out: Path, timesteps: int, n_envs: int,
-           map_path: Path | None, env_cfg: dict[str, Any], policy: str, cfg: dict[str, Any],
-           progress: bool) -> Path:
-    from stable_baselines3 import PPO
-    from stable_baselines3.common.callbacks import CheckpointCallback
-    from stable_baselines3.common.env_util import make_vec_env
-    from stable_baselines3.common.logger import configure
-    from stable_baselines3.common.vec_env import DummyVecEnv, SubprocVecEnv
-
-    # spawned workers: a worker forked from a process that has rendered deadlocks in Mesa's EGL
-    venv = make_vec_env(functools.partial(make_env, agent, map_path=map_path, **env_cfg),
-                        n_envs=n_envs, seed=seed,
-                        vec_env_cls=SubprocVecEnv if n_envs > 1 else DummyVecEnv,
-                        vec_env_kwargs={"start_method": "spawn"} if n_envs > 1 else None,
-                        monitor_kwargs={"info_keywords": ("is_success",)})
-    model = PPO(policy, venv, seed=seed, device="cpu", verbose=0, **cfg)
-    model.set_logger(configure(str(out), ["csv", "stdout"] if progress else ["csv"]))
-    checkpoints = CheckpointCallback(max(timesteps // 10 // n_envs, 1), str(out / "checkpoints"),
-                                     name_prefix="ppo")
-    start = time.perf_counter()
-    model.learn(timesteps, callback=checkpoints, progress_bar=progress)
-    minutes = (time.perf_counter() - start) / 60
-    venv.close()
-    model.save(out / "policy.zip")
-    (out / "train_info.json").write_text(json.dumps(
-        {"agent": agent, "seed": seed, "timesteps": timesteps, "n_envs": n_envs,
-         "minutes": round(minutes, 2), "versions": _versions()}, indent=2))
-    return out / "policy.zip"
 
 
 def _versions() -> dict[str, str]:
