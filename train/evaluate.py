@@ -1,9 +1,14 @@
 """Score an agent on ``PlaceNav-ReachRoom-v0``: success rate, episode length and SPL.
 
     python -m train.evaluate --agent {ppo,random,noplace,oracle,planner,all} [--policy PATH]
-        --episodes N --seed S [--json FILE]
+        --episodes N --seed S [--json FILE] [--config YML --policies DIR]
 
 ``--agent all`` scores every agent with its shipped policy and prints a markdown table.
+``--config`` names the hyperparameter file the agents were trained with (its ``env`` sections
+give the world and the sensors) and ``--policies`` the folder of their ``ppo_<agent>.zip``; the
+robot with 0.8 m proximity sensors is ``--config train/hyperparams/ppo_proximity.yml
+--policies assets/policies/proximity``. A config whose robot has no rangefinders at all leaves
+the planner out of ``--agent all`` (its controller steers with them).
 
 ``ppo`` is the PPO agent that acts on the recognizer's ``place_id``; ``noplace`` and
 ``oracle`` are the same PPO recipe without ``place_id`` and with the true room instead
@@ -24,7 +29,7 @@ from pathlib import Path
 import numpy as np
 import yaml
 
-from train.make import make_env
+from train.make import SENSORS, make_env
 from train.mapping import EDGES_FILE, MAP_FILE
 from train.train import HYPERPARAMS
 
@@ -85,21 +90,23 @@ class _Agent:
 
 def evaluate(agent: str, episodes: int, seed: int, policy: Path | None = None,
              map_dir: Path = POLICIES, progress: bool = False,
-             config_path: Path = HYPERPARAMS, stochastic: bool = False) -> dict[str, float]:
+             config_path: Path = HYPERPARAMS, stochastic: bool = False,
+             policies: Path = POLICIES) -> dict[str, float]:
     """Run ``episodes`` evaluation episodes of ``agent``; returns the scores.
 
     PPO agents act on the mean of their action distribution unless ``stochastic`` (then they
     sample, as during training; the draws come from the policy's own seeded generator).
 
     The world and task settings are the ``env`` section the agent was trained with in
-    ``config_path`` (the ``default`` section for ``random`` and ``planner``).
+    ``config_path`` (the ``default`` section for ``random`` and ``planner``). Without
+    ``policy``, a PPO agent's policy is ``policies/ppo_<observations>.zip``.
     """
     if agent not in OBSERVES:
         raise ValueError(f"unknown agent {agent!r}; choose one of {sorted(OBSERVES)}")
     if episodes < 1:
         raise ValueError(f"episodes must be positive, got {episodes}")
     if agent not in ("random", "planner"):
-        policy = policy or POLICIES / f"ppo_{OBSERVES[agent]}.zip"
+        policy = policy or Path(policies) / f"ppo_{OBSERVES[agent]}.zip"
         if not Path(policy).is_file():
             raise FileNotFoundError(f"no policy file {policy}; train one with python -m "
                                     f"train.train --agent {OBSERVES[agent]}")
@@ -130,6 +137,10 @@ def main(argv: list[str] | None = None) -> int:
     p.add_argument("--agent", required=True, choices=[*sorted(OBSERVES), "all"])
     p.add_argument("--policy", type=Path, help="policy zip (default: the shipped one)")
     p.add_argument("--map", type=Path, default=POLICIES, help="folder with map.npz")
+    p.add_argument("--config", type=Path, default=HYPERPARAMS,
+                   help="hyperparameter file the agents were trained with (world, sensors)")
+    p.add_argument("--policies", type=Path, default=POLICIES,
+                   help="folder of the ppo_<agent>.zip policies used without --policy")
     p.add_argument("--episodes", type=int, default=50)
     p.add_argument("--seed", type=int, default=1000)
     p.add_argument("--json", type=Path, help="also write the scores here")
@@ -138,10 +149,11 @@ def main(argv: list[str] | None = None) -> int:
     args = p.parse_args(argv)
     if args.agent == "all" and args.policy:
         p.error("--policy names one agent's policy; it cannot go with --agent all")
-    agents = list(TABLE_ORDER) if args.agent == "all" else [args.agent]
     try:
+        agents = _table_agents(args.config) if args.agent == "all" else [args.agent]
         table = [evaluate(a, args.episodes, args.seed, args.policy, args.map, progress=True,
-                          stochastic=args.stochastic) for a in agents]
+                          config_path=args.config, stochastic=args.stochastic,
+                          policies=args.policies) for a in agents]
     except (ValueError, FileNotFoundError) as e:
         print(f"error: {e}", file=sys.stderr)
         return 2
@@ -156,6 +168,17 @@ def main(argv: list[str] | None = None) -> int:
 
 
 TABLE_ORDER = ("random", "noplace", "planner", "ppo", "oracle")
+
+
+def _table_agents(config_path: Path) -> list[str]:
+    """The agents of ``--agent all``: the planner only where the robot has rangefinders."""
+    config = yaml.safe_load(Path(config_path).read_text())
+    sensors = config.get("planner", config["default"])["env"].get("sensors", SENSORS)
+    if "ranges" in sensors:
+        return list(TABLE_ORDER)
+    print("the planner steers with rangefinders, which this robot lacks: left out",
+          file=sys.stderr)
+    return [a for a in TABLE_ORDER if a != "planner"]
 
 
 def markdown_table(rows: list[dict]) -> str:

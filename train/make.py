@@ -9,27 +9,36 @@
 
 No agent sees the panorama itself: learning from pixels is not what this benchmark is about,
 and it would not train on a CPU in an hour.
+
+``sensors`` and ``range_limit`` narrow the robot's own sensors for every agent alike: the
+config ``train/hyperparams/ppo_proximity.yml`` trains a robot whose rangefinders reach 0.8 m
+instead of 4 m, enough not to hit walls but not to see the shape of the room.
 """
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from pathlib import Path
 from typing import Any
 
 import gymnasium as gym
-from gymnasium.wrappers import FilterObservation
+import numpy as np
+from gymnasium.spaces import Box, Dict
+from gymnasium.wrappers import FilterObservation, TransformObservation
 
 import envs  # noqa: F401  (registers the environments)
 from envs.place_id import PlaceIdWrapper, TrueRoomWrapper
+from envs.robot import MAX_RANGE
 from placeclust import OnlinePlaceClustering
 
 AGENTS = ("place", "noplace", "oracle", "planner")
-SENSORS = ["goal", "heading", "ranges", "odometry"]
+SENSORS = ("goal", "heading", "ranges", "odometry")
 MAX_PLACES = 64
 
 
 def make_env(agent: str, scene_seed: int = 0, n_rooms: int = 4, map_path: str | Path | None = None,
-             max_episode_steps: int | None = None, **task: Any) -> gym.Env:
+             max_episode_steps: int | None = None, sensors: Sequence[str] = SENSORS,
+             range_limit: float | None = None, **task: Any) -> gym.Env:
     """A ``PlaceNav-ReachRoom-v0`` env wrapped for ``agent`` (one of :data:`AGENTS`).
 
     Args:
@@ -37,10 +46,18 @@ def make_env(agent: str, scene_seed: int = 0, n_rooms: int = 4, map_path: str | 
         scene_seed, n_rooms: the world.
         map_path: the fixed place map (``place`` and ``planner`` agents only).
         max_episode_steps: step budget; None keeps the registered 300.
+        sensors: the robot's sensors the agent observes, a subset of :data:`SENSORS` that holds
+            ``goal`` (an agent that is not told the goal cannot be scored on reaching it).
+        range_limit: if given, the rangefinders read at most this many metres (nothing nearer
+            reads as the limit): proximity sensors instead of a ring that sees the whole room.
         **task: more arguments of :class:`envs.reach_room.ReachRoomEnv`.
     """
     if agent not in AGENTS:
         raise ValueError(f"unknown agent {agent!r}; choose one of {AGENTS}")
+    sensors = _check_sensors(sensors)
+    if agent == "planner" and "ranges" not in sensors:
+        raise ValueError("the planner steers around obstacles with its rangefinders; "
+                         "its sensors must include 'ranges'")
     looks = agent in ("place", "planner")
     if looks and map_path is None:
         raise ValueError(f"the {agent!r} agent needs map_path (see train.mapping.build_map)")
@@ -50,10 +67,36 @@ def make_env(agent: str, scene_seed: int = 0, n_rooms: int = 4, map_path: str | 
     if looks:
         recognizer = OnlinePlaceClustering.load(map_path, world=env.unwrapped.world_id)
         env = PlaceIdWrapper(env, recognizer, max_places=MAX_PLACES, learn=False)
+    if range_limit is not None:
+        env = _limit_ranges(env, range_limit)
     if agent == "oracle":
         env = TrueRoomWrapper(env)
     if agent in ("place", "oracle"):
-        return FilterObservation(env, ["place_id", *SENSORS])
+        return FilterObservation(env, ["place_id", *sensors])
     if agent == "noplace":
-        return FilterObservation(env, SENSORS)
+        return FilterObservation(env, sensors)
     return env
+
+
+def _limit_ranges(env: gym.Env, limit: float) -> gym.Env:
+    if not 0.0 < limit <= MAX_RANGE:
+        raise ValueError(f"range_limit must be in (0, {MAX_RANGE}] m, got {limit}")
+    space = env.observation_space["ranges"]
+    spaces = {**env.observation_space.spaces,
+              "ranges": Box(0.0, limit, space.shape, space.dtype)}
+
+    def clip(obs: dict[str, Any]) -> dict[str, Any]:
+        return {**obs, "ranges": np.minimum(obs["ranges"], np.float32(limit))}
+
+    return TransformObservation(env, clip, Dict(spaces))
+
+
+def _check_sensors(sensors: Sequence[str]) -> list[str]:
+    if isinstance(sensors, str):
+        raise ValueError(f"sensors must be a list of names, got the string {sensors!r}")
+    unknown = sorted(set(sensors) - set(SENSORS))
+    if unknown:
+        raise ValueError(f"unknown sensors {unknown}; choose from {list(SENSORS)}")
+    if "goal" not in sensors:
+        raise ValueError(f"sensors {list(sensors)} lack 'goal': the agent must be told the goal")
+    return [s for s in SENSORS if s in sensors]  # one order, whatever the config's

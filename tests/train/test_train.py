@@ -1,6 +1,7 @@
 import json
 from pathlib import Path
 
+import numpy as np
 import pytest
 
 pytest.importorskip("stable_baselines3")
@@ -104,3 +105,55 @@ def test_single_threaded_training_restores_the_threads(monkeypatch):
     with _one_thread_each(True):
         assert os.environ["OMP_NUM_THREADS"] == "2"
     assert os.environ["OMP_NUM_THREADS"] == "2"
+
+
+def test_sensors_narrow_what_every_agent_observes():
+    env = make_env("noplace", sensors=["goal", "heading", "odometry"])
+    assert set(env.observation_space.spaces) == {"goal", "heading", "odometry"}
+    obs, _ = env.reset(seed=0)
+    assert set(obs) == {"goal", "heading", "odometry"}
+    env.close()
+    env = make_env("oracle", sensors=["odometry", "goal"])  # the config's order does not matter
+    assert list(env.observation_space.spaces) == sorted(["place_id", "goal", "odometry"])
+    env.close()
+
+
+@pytest.mark.parametrize("sensors, message", [
+    (["goal", "lidar"], "unknown sensors \\['lidar'\\]"),
+    (["heading", "ranges"], "lack 'goal'"),
+    ("goal", "list of names"),
+])
+def test_bad_sensors_are_named(sensors, message):
+    with pytest.raises(ValueError, match=message):
+        make_env("noplace", sensors=sensors)
+
+
+def test_range_limit_makes_proximity_sensors():
+    env = make_env("noplace", range_limit=0.8)
+    assert env.observation_space["ranges"].high.max() == pytest.approx(0.8)
+    obs, _ = env.reset(seed=0)
+    assert env.observation_space.contains(obs) and obs["ranges"].max() <= np.float32(0.8)
+    env.close()
+    with pytest.raises(ValueError, match="range_limit must be in"):
+        make_env("noplace", range_limit=0.0)
+
+
+def test_the_planner_needs_rangefinders(tiny_config, tmp_path, capsys):
+    from train.evaluate import _table_agents
+
+    with pytest.raises(ValueError, match="rangefinders"):
+        make_env("planner", map_path=Path(POLICIES) / "map.npz", sensors=["goal", "heading"])
+    blind = tmp_path / "blind.yml"
+    blind.write_text(TINY.replace("max_episode_steps: 20}",
+                                  "max_episode_steps: 20, sensors: [goal, heading]}"))
+    assert "planner" not in _table_agents(blind)
+    assert "left out" in capsys.readouterr().err
+    assert "planner" in _table_agents(tiny_config)
+
+
+def test_shipped_proximity_policies_fit_their_config():
+    config = Path(__file__).resolve().parents[2] / "train" / "hyperparams" / "ppo_proximity.yml"
+    for agent in ("noplace", "oracle"):  # the place agent's env renders; same check, slower
+        scores = evaluate(agent, 1, seed=1000, config_path=config,
+                          policies=Path(POLICIES) / "proximity")
+        assert scores["episodes"] == 1
