@@ -171,12 +171,12 @@ TABLE_ORDER = ("random", "noplace", "planner", "ppo", "oracle")
 
 
 def _table_agents(config_path: Path) -> list[str]:
-    """The agents of ``--agent all``: the planner only where the robot has rangefinders."""
+    """The agents of ``--agent all``: the planner only where the robot has its sensors."""
     config = yaml.safe_load(Path(config_path).read_text())
     sensors = config.get("planner", config["default"])["env"].get("sensors", SENSORS)
-    if "ranges" in sensors:
+    if {"heading", "ranges"} <= set(sensors):
         return list(TABLE_ORDER)
-    print("the planner steers with rangefinders, which this robot lacks: left out",
+    print("the planner steers by compass and rangefinders, which this robot lacks: left out",
           file=sys.stderr)
     return [a for a in TABLE_ORDER if a != "planner"]
 

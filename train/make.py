@@ -55,9 +55,11 @@ def make_env(agent: str, scene_seed: int = 0, n_rooms: int = 4, map_path: str | 
     if agent not in AGENTS:
         raise ValueError(f"unknown agent {agent!r}; choose one of {AGENTS}")
     sensors = _check_sensors(sensors)
-    if agent == "planner" and "ranges" not in sensors:
-        raise ValueError("the planner steers around obstacles with its rangefinders; "
-                         "its sensors must include 'ranges'")
+    if agent == "planner" and not {"heading", "ranges"} <= set(sensors):
+        raise ValueError("the planner steers by compass around what its rangefinders see; "
+                         "its sensors must include 'heading' and 'ranges'")
+    if range_limit is not None and not 0.0 < range_limit <= MAX_RANGE:
+        raise ValueError(f"range_limit must be in (0, {MAX_RANGE}] m, got {range_limit}")
     looks = agent in ("place", "planner")
     if looks and map_path is None:
         raise ValueError(f"the {agent!r} agent needs map_path (see train.mapping.build_map)")
@@ -79,8 +81,6 @@ def make_env(agent: str, scene_seed: int = 0, n_rooms: int = 4, map_path: str | 
 
 
 def _limit_ranges(env: gym.Env, limit: float) -> gym.Env:
-    if not 0.0 < limit <= MAX_RANGE:
-        raise ValueError(f"range_limit must be in (0, {MAX_RANGE}] m, got {limit}")
     space = env.observation_space["ranges"]
     spaces = {**env.observation_space.spaces,
               "ranges": Box(0.0, limit, space.shape, space.dtype)}

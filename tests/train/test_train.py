@@ -141,7 +141,7 @@ def test_range_limit_makes_proximity_sensors():
 def test_the_planner_needs_rangefinders(tiny_config, tmp_path, capsys):
     from train.evaluate import _table_agents
 
-    with pytest.raises(ValueError, match="rangefinders"):
+    with pytest.raises(ValueError, match="must include .heading. and .ranges."):
         make_env("planner", map_path=Path(POLICIES) / "map.npz", sensors=["goal", "heading"])
     blind = tmp_path / "blind.yml"
     blind.write_text(TINY.replace("max_episode_steps: 20}",
