@@ -7,8 +7,8 @@
 ``--config`` names the hyperparameter file the agents were trained with (its ``env`` sections
 give the world and the sensors) and ``--policies`` the folder of their ``ppo_<agent>.zip``; the
 robot with 0.8 m proximity sensors is ``--config train/hyperparams/ppo_proximity.yml
---policies assets/policies/proximity``. A config whose robot has no rangefinders at all leaves
-the planner out of ``--agent all`` (its controller steers with them).
+--policies assets/policies/proximity``. A config whose robot lacks the compass or the
+rangefinders leaves the planner out of ``--agent all`` (its controller steers with them).
 
 ``ppo`` is the PPO agent that acts on the recognizer's ``place_id``; ``noplace`` and
 ``oracle`` are the same PPO recipe without ``place_id`` and with the true room instead
@@ -29,7 +29,7 @@ from pathlib import Path
 import numpy as np
 import yaml
 
-from train.make import SENSORS, make_env
+from train.make import PLANNER_SENSORS, SENSORS, make_env
 from train.mapping import EDGES_FILE, MAP_FILE
 from train.train import HYPERPARAMS
 
@@ -110,8 +110,7 @@ def evaluate(agent: str, episodes: int, seed: int, policy: Path | None = None,
         if not Path(policy).is_file():
             raise FileNotFoundError(f"no policy file {policy}; train one with python -m "
                                     f"train.train --agent {OBSERVES[agent]}")
-    config = yaml.safe_load(Path(config_path).read_text())
-    env_cfg = config.get(OBSERVES[agent], config["default"])["env"]
+    env_cfg = _env_section(config_path, OBSERVES[agent])
     looks = OBSERVES[agent] in ("place", "planner")
     env = make_env(OBSERVES[agent], map_path=Path(map_dir) / MAP_FILE if looks else None,
                    **env_cfg)
@@ -170,11 +169,16 @@ def main(argv: list[str] | None = None) -> int:
 TABLE_ORDER = ("random", "noplace", "planner", "ppo", "oracle")
 
 
+def _env_section(config_path: Path, observes: str) -> dict:
+    """The ``env`` settings the agent observing ``observes`` trained with (else ``default``'s)."""
+    config = yaml.safe_load(Path(config_path).read_text())
+    return config.get(observes, config["default"])["env"]
+
+
 def _table_agents(config_path: Path) -> list[str]:
     """The agents of ``--agent all``: the planner only where the robot has its sensors."""
-    config = yaml.safe_load(Path(config_path).read_text())
-    sensors = config.get("planner", config["default"])["env"].get("sensors", SENSORS)
-    if {"heading", "ranges"} <= set(sensors):
+    sensors = _env_section(config_path, "planner").get("sensors", SENSORS)
+    if PLANNER_SENSORS <= set(sensors):
         return list(TABLE_ORDER)
     print("the planner steers by compass and rangefinders, which this robot lacks: left out",
           file=sys.stderr)

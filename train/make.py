@@ -33,6 +33,8 @@ from placeclust import OnlinePlaceClustering
 
 AGENTS = ("place", "noplace", "oracle", "planner")
 SENSORS = ("goal", "heading", "ranges", "odometry")
+#: what the planner's controller steers with (:func:`train.planner.steer`)
+PLANNER_SENSORS = frozenset({"heading", "ranges"})
 MAX_PLACES = 64
 
 
@@ -55,7 +57,7 @@ def make_env(agent: str, scene_seed: int = 0, n_rooms: int = 4, map_path: str | 
     if agent not in AGENTS:
         raise ValueError(f"unknown agent {agent!r}; choose one of {AGENTS}")
     sensors = _check_sensors(sensors)
-    if agent == "planner" and not {"heading", "ranges"} <= set(sensors):
+    if agent == "planner" and not PLANNER_SENSORS <= set(sensors):
         raise ValueError("the planner steers by compass around what its rangefinders see; "
                          "its sensors must include 'heading' and 'ranges'")
     if range_limit is not None and not 0.0 < range_limit <= MAX_RANGE:
