@@ -27,11 +27,10 @@ import sys
 from pathlib import Path
 
 import numpy as np
-import yaml
 
+from train.config import HYPERPARAMS, env_section
 from train.make import PLANNER_SENSORS, SENSORS, make_env
 from train.mapping import EDGES_FILE, MAP_FILE
-from train.train import HYPERPARAMS
 
 POLICIES = Path(__file__).resolve().parent.parent / "assets" / "policies"
 #: evaluation agent -> the observation set it was trained with (train.make.AGENTS)
@@ -110,7 +109,7 @@ def evaluate(agent: str, episodes: int, seed: int, policy: Path | None = None,
         if not Path(policy).is_file():
             raise FileNotFoundError(f"no policy file {policy}; train one with python -m "
                                     f"train.train --agent {OBSERVES[agent]}")
-    env_cfg = _env_section(config_path, OBSERVES[agent])
+    env_cfg = env_section(config_path, OBSERVES[agent])
     looks = OBSERVES[agent] in ("place", "planner")
     env = make_env(OBSERVES[agent], map_path=Path(map_dir) / MAP_FILE if looks else None,
                    **env_cfg)
@@ -169,15 +168,9 @@ def main(argv: list[str] | None = None) -> int:
 TABLE_ORDER = ("random", "noplace", "planner", "ppo", "oracle")
 
 
-def _env_section(config_path: Path, observes: str) -> dict:
-    """The ``env`` settings the agent observing ``observes`` trained with (else ``default``'s)."""
-    config = yaml.safe_load(Path(config_path).read_text())
-    return config.get(observes, config["default"])["env"]
-
-
 def _table_agents(config_path: Path) -> list[str]:
     """The agents of ``--agent all``: the planner only where the robot has its sensors."""
-    sensors = _env_section(config_path, "planner").get("sensors", SENSORS)
+    sensors = env_section(config_path, "planner").get("sensors", SENSORS)
     if PLANNER_SENSORS <= set(sensors):
         return list(TABLE_ORDER)
     print("the planner steers by compass and rangefinders, which this robot lacks: left out",

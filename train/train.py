@@ -2,10 +2,11 @@
 
     python -m train.train --agent place --seed 0
 
-Hyperparameters come from ``train/hyperparams/ppo.yml`` (one section per agent, see
-:mod:`train.make`). The run folder (``runs/train/<agent>_s<seed>`` by default) gets the resolved
-config, the place map (``place`` agent: built from a scripted tour unless ``--map`` names one),
-``progress.csv`` (SB3's logger), checkpoints, ``policy.zip`` and ``train_info.json``.
+Hyperparameters come from ``train/hyperparams/ppo.yml`` or ``--config`` (one section per
+agent, see :mod:`train.make`; read by :mod:`train.config`). The run folder
+(``runs/train/<agent>_s<seed>`` by default) gets the resolved config, the place map (``place``
+agent: built from a scripted tour unless ``--map`` names one), ``progress.csv`` (SB3's logger),
+checkpoints, ``policy.zip`` and ``train_info.json``.
 """
 
 from __future__ import annotations
@@ -24,20 +25,11 @@ from typing import Any
 
 import yaml
 
+from train.config import HYPERPARAMS, load_config
 from train.make import AGENTS, make_env
 from train.mapping import EDGES_FILE, MAP_FILE, build_map
 
-HYPERPARAMS = Path(__file__).resolve().parent / "hyperparams" / "ppo.yml"
 TRAINABLE = tuple(a for a in AGENTS if a != "planner")
-
-
-def load_config(agent: str, path: Path = HYPERPARAMS) -> dict[str, Any]:
-    """The hyperparameter section for ``agent``, or a ``ValueError`` naming the known ones."""
-    config = yaml.safe_load(Path(path).read_text())
-    if agent not in config:
-        known = sorted(k for k in config if k != "default")
-        raise ValueError(f"{path} has no section {agent!r}; it has {known}")
-    return dict(config[agent])
 
 
 def prepare_map(agent: str, out: Path, env_cfg: dict[str, Any], given: Path | None,
@@ -139,8 +131,6 @@ def _one_thread_each(enabled: bool) -> Iterator[None]:
         torch.set_num_threads(threads)
         if omp is None:
             os.environ.pop("OMP_NUM_THREADS", None)
-
-
 
 
 def _versions() -> dict[str, str]:

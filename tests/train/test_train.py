@@ -6,9 +6,10 @@ import pytest
 
 pytest.importorskip("stable_baselines3")
 
+from train.config import load_config  # noqa: E402
 from train.evaluate import POLICIES, evaluate, main  # noqa: E402
 from train.make import make_env  # noqa: E402
-from train.train import load_config, train  # noqa: E402
+from train.train import train  # noqa: E402
 
 TINY = """
 default: &default
