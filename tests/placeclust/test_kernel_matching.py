@@ -42,6 +42,22 @@ def test_ratio_matches_and_eq1_eq4():
     assert np.all(idx[:, 1] == -1) and np.all(np.isinf(dist[:, 1]))
 
 
+def test_float_knn2_agrees_with_brute_force():
+    """The two nearest train rows and their Euclidean distances, nearest first."""
+    rng = np.random.default_rng(5)
+    query, train = unit(rng, 40), unit(rng, 90)
+    train[:10] = query[:10] + 0.05 * train[:10]  # some near-duplicates, as in a union kernel
+    train /= np.linalg.norm(train, axis=1, keepdims=True)
+    full = np.linalg.norm(query[:, None, :] - train[None, :, :], axis=2)
+    expected = np.argsort(full, axis=1)[:, :2]
+    dist, idx = knn2(query, train, False)
+    np.testing.assert_array_equal(idx, expected)
+    np.testing.assert_allclose(dist, np.take_along_axis(full, expected, 1), atol=1e-5)
+    dist, idx = knn2(query[:3], train[:2], False)  # two train rows: both, in order
+    np.testing.assert_array_equal(np.sort(idx, axis=1), [[0, 1]] * 3)
+    assert np.all(dist[:, 0] <= dist[:, 1])
+
+
 def test_binary_matching():
     rng = np.random.default_rng(3)
     a = rng.integers(0, 256, (30, 32), dtype=np.uint8)
