@@ -46,14 +46,11 @@ def knn2(query: np.ndarray, train: np.ndarray, binary: bool) -> tuple[np.ndarray
         rows = np.arange(n)
         first = sim.argmax(axis=1)
         best = sim[rows, first]
-        if single:
-            second, runner_up = np.full(n, -1, np.int64), np.full(n, -np.inf, np.float32)
-        else:
+        if not single:  # a single row's second column is set to (inf, -1) below
             sim[rows, first] = -np.inf
-            second = sim.argmax(axis=1)
-            runner_up = sim[rows, second]
+        second = sim.argmax(axis=1)
         idx = np.stack([first, second], axis=1).astype(np.int64)
-        dot = np.stack([best, runner_up], axis=1)
+        dot = np.stack([best, sim[rows, second]], axis=1)
         dist = np.sqrt(np.maximum(2.0 - 2.0 * dot, 0.0)).astype(np.float32)
     if single:
         dist[:, 1], idx[:, 1] = np.inf, -1
