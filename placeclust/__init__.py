@@ -7,4 +7,4 @@ image sequences as well as on the simulator's tours.
 from placeclust.online import UNKNOWN, OnlinePlaceClustering
 
 __all__ = ["UNKNOWN", "OnlinePlaceClustering"]
-__version__ = "0.3.1"
+__version__ = "0.4.0"

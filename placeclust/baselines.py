@@ -90,20 +90,22 @@ class KMeansPlaces:
         n_words: vocabulary size.
         seed: seeds the vocabulary and k-means.
         normalize: contrast normalization (:class:`~placeclust.features.FeatureExtractor`).
+        scale: resize factor before detection (:class:`~placeclust.features.FeatureExtractor`).
     """
 
     def __init__(self, features: str = "sift", n_clusters: int | None = None,
                  n_words: int = 200, max_features: int = 500, seed: int = 0,
-                 normalize: str | None = "clahe") -> None:
+                 normalize: str | None = "clahe", scale: float = 1.0) -> None:
         self.features = features
         self.n_clusters = n_clusters
         self.n_words = n_words
         self.max_features = max_features
         self.seed = seed
         self.normalize = normalize
+        self.scale = scale
 
     def _prepare(self, frames: np.ndarray) -> tuple[np.ndarray, int]:
-        ext = FeatureExtractor(self.features, self.max_features, self.normalize)
+        ext = FeatureExtractor(self.features, self.max_features, self.normalize, self.scale)
         descs = describe_all(frames, ext)
         k = self.n_clusters or estimate_k(descs, ext.binary)
         return bag_of_words(descs, ext.binary, self.n_words, self.seed), min(k, len(frames))

@@ -11,6 +11,11 @@
 
 Each extractor keeps at most ``max_features`` keypoints (strongest response first), so a kernel's
 size and the matching cost stay bounded.
+
+Frames can be resized by ``scale`` before detection (keypoint coordinates are given back in
+the frame's pixels). OpenCV's SIFT doubles its input for its first octave, so on simulator
+panoramas ``scale=0.75`` (384x96) still yields ~480 of the 500 features of a 512x128 frame, in
+9 instead of 16 ms.
 """
 
 from __future__ import annotations
@@ -55,10 +60,12 @@ class FeatureExtractor:
             (global histogram equalization) or ``"clahe"`` (contrast-limited adaptive
             histogram equalization, 8x2 tiles on a 4:1 panorama). It makes detection less
             dependent on the light: at night a contrast threshold keeps other keypoints.
+        scale: resize factor in (0, 1] applied before detection (``cv2.INTER_AREA``); smaller
+            is faster and finds fewer, coarser keypoints.
     """
 
     def __init__(self, name: str = "sift", max_features: int = 500,
-                 normalize: str | None = "clahe") -> None:
+                 normalize: str | None = "clahe", scale: float = 1.0) -> None:
         if name not in FEATURES:
             raise ValueError(f"unknown feature type {name!r}; choose one of {FEATURES}")
         if normalize not in NORMALIZE:
@@ -67,8 +74,12 @@ class FeatureExtractor:
         self._clahe = cv2.createCLAHE(clipLimit=2.0, tileGridSize=(8, 2))
         if max_features < 1:
             raise ValueError(f"max_features must be positive, got {max_features}")
+        scale = float(scale)
+        if not 0.0 < scale <= 1.0:
+            raise ValueError(f"scale must be in (0, 1], got {scale}")
         self.name = name
         self.max_features = max_features
+        self.scale = scale
         self.binary = name in ("orb", "akaze")
         self._cv = None
         if name == "sift":
@@ -82,13 +93,26 @@ class FeatureExtractor:
 
     def __getstate__(self) -> dict:  # cv2 objects do not pickle; rebuild them on load
         return {"name": self.name, "max_features": self.max_features,
-                "normalize": self.normalize}
+                "normalize": self.normalize, "scale": self.scale}
 
     def __setstate__(self, state: dict) -> None:
         self.__init__(**state)
 
     def extract(self, gray: np.ndarray) -> Features:
-        """Features of a 2-D uint8 image (see :func:`placeclust.frames.to_gray`)."""
+        """Features of a 2-D uint8 image (see :func:`placeclust.frames.to_gray`); keypoint
+        coordinates are in ``gray``'s pixels whatever ``scale``."""
+        if self.scale != 1.0:
+            h, w = gray.shape
+            size = (max(1, round(w * self.scale)), max(1, round(h * self.scale)))
+            gray = cv2.resize(gray, size, interpolation=cv2.INTER_AREA)
+        feats = self._detect(gray)
+        if self.scale != 1.0 and len(feats):
+            # pixel centres map as (x + 0.5) / scale - 0.5
+            xy = (feats.xy + np.float32(0.5)) / np.float32(self.scale) - np.float32(0.5)
+            feats = Features(xy, feats.descriptors, feats.binary)
+        return feats
+
+    def _detect(self, gray: np.ndarray) -> Features:
         if self.normalize == "equalize":
             gray = cv2.equalizeHist(gray)
         elif self.normalize == "clahe":

@@ -24,7 +24,8 @@ if TYPE_CHECKING:
 
 FORMAT = "placeclust-map"
 # 2: the parameters include ``normalize``; version-1 maps were made from raw frames
-VERSION = 2
+# 3: the parameters include ``scale``; older maps were made from full-size frames
+VERSION = 3
 
 
 def save_map(model: OnlinePlaceClustering, path: str | os.PathLike, world: str = "") -> Path:
@@ -107,6 +108,8 @@ def load_map(path: str | os.PathLike, world: str | None = None) -> OnlinePlaceCl
         params = dict(meta["params"])
         if meta["version"] < 2:
             params.setdefault("normalize", None)  # the kernels hold features of raw frames
+        if meta["version"] < 3:
+            params.setdefault("scale", 1.0)  # ... and of full-size frames
         model = OnlinePlaceClustering(**params)
         model.restore(
             kernels={p: (arrays[f"k{p}_desc"], arrays[f"k{p}_w"], arrays[f"k{p}_seen"],

@@ -10,6 +10,13 @@ from __future__ import annotations
 
 import cv2
 import numpy as np
+from threadpoolctl import ThreadpoolController
+
+# The matching GEMM runs on one BLAS thread. It is small (hundreds of rows), and OpenBLAS's
+# other threads keep spinning after each call: on 2 cores they slowed OpenCV's SIFT in the same
+# process from ~10 to ~20 ms per frame (``python -m placeclust.benchmark latency``). The limit
+# holds only during the call; the process's own BLAS settings are left alone.
+_BLAS = ThreadpoolController()
 
 
 def normalize(desc: np.ndarray, binary: bool) -> np.ndarray:
@@ -42,7 +49,8 @@ def knn2(query: np.ndarray, train: np.ndarray, binary: bool) -> tuple[np.ndarray
         # |q - t|^2 = |q|^2 + |t|^2 - 2 q.t with unit rows: one GEMM, the fastest route here.
         # The two nearest are the two largest dot products: two argmax passes (the first one
         # masked out) cost a third of an argpartition over the whole matrix.
-        sim = query @ train.T
+        with _BLAS.limit(limits=1, user_api="blas"):
+            sim = query @ train.T
         rows = np.arange(n)
         first = sim.argmax(axis=1)
         best = sim[rows, first]

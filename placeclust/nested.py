@@ -79,6 +79,7 @@ class NestedMapper:
         location_capacity: the most points a location keeps.
         ratio: Lowe's ratio for correspondences.
         normalize: contrast normalization (:class:`~placeclust.features.FeatureExtractor`).
+        scale: resize factor before detection (:class:`~placeclust.features.FeatureExtractor`).
     """
 
     def __init__(
@@ -94,6 +95,7 @@ class NestedMapper:
         location_capacity: int = 1500,
         ratio: float = 0.8,
         normalize: str | None = "clahe",
+        scale: float = 1.0,
     ) -> None:
         self.features = features
         self.max_features = max_features
@@ -106,7 +108,8 @@ class NestedMapper:
         self.location_capacity = location_capacity
         self.ratio = ratio
         self.normalize = normalize
-        self._extractor = FeatureExtractor(features, max_features, normalize)
+        self.scale = scale
+        self._extractor = FeatureExtractor(features, max_features, normalize, scale)
         self.locations: dict[int, Location] = {}
         self.graph = nx.Graph()  # level 1: locations
         self.view_graphs: dict[int, nx.Graph] = {}  # level 2: views of each location

@@ -82,3 +82,24 @@ def test_contrast_normalization_keeps_features_in_dim_light():
     assert len(clahe.extract(dim)) > 0.8 * len(clahe.extract(bright))
     with pytest.raises(ValueError, match="unknown normalize 'gamma'"):
         FeatureExtractor("sift", normalize="gamma")
+
+
+def test_scaled_detection_reports_keypoints_in_frame_pixels():
+    """A frame twice the size detected at scale 0.5 gives the features of the frame itself, at
+    the big frame's pixel coordinates (centres map as (x + 0.5) / scale - 0.5)."""
+    import cv2
+    import pytest
+
+    from placeclust.features import FeatureExtractor
+    from placeclust.synthetic import textured
+
+    gray = cv2.cvtColor(textured(3), cv2.COLOR_RGB2GRAY)
+    big = cv2.resize(gray, None, fx=2, fy=2, interpolation=cv2.INTER_NEAREST)
+    full = FeatureExtractor("orb", scale=1.0).extract(gray)
+    half = FeatureExtractor("orb", scale=0.5).extract(big)
+    assert len(full) > 50
+    np.testing.assert_array_equal(half.descriptors, full.descriptors)
+    np.testing.assert_allclose(half.xy, 2 * full.xy + 0.5, atol=1e-4)
+    assert FeatureExtractor("sift").scale == 1.0
+    with pytest.raises(ValueError, match="scale must be in"):
+        FeatureExtractor("sift", scale=1.5)

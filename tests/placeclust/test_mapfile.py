@@ -74,6 +74,22 @@ def test_version_1_maps_keep_reading_raw_frames(mapped, tmp_path):
     assert OnlinePlaceClustering.load(tmp_path / "m.npz").normalize == "clahe"
 
 
+def test_version_2_maps_load_at_full_size_and_scale_round_trips(frames, tmp_path):
+    """Maps written before ``scale`` existed were made from full-size frames."""
+    model = OnlinePlaceClustering(features="sift", scale=0.75)
+    for f in frames:
+        model.learn_one(f)
+    model.save(tmp_path / "m.npz")
+    meta, arrays = read_meta(tmp_path / "m.npz")
+    meta["version"] = 2
+    del meta["params"]["scale"]
+    np.savez(tmp_path / "v2.npz", meta=np.array(json.dumps(meta)), **arrays)
+    assert OnlinePlaceClustering.load(tmp_path / "v2.npz").scale == 1.0
+    loaded = OnlinePlaceClustering.load(tmp_path / "m.npz")
+    assert loaded.scale == 0.75
+    assert [loaded.predict_one(f) for f in frames] == [model.predict_one(f) for f in frames]
+
+
 def test_foreign_future_and_other_world_files_are_refused(mapped, tmp_path):
     np.savez(tmp_path / "foreign.npz", x=np.arange(3))
     with pytest.raises(ValueError, match="not a readable placeclust map|not a placeclust map"):
