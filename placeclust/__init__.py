@@ -4,7 +4,12 @@ Free of gymnasium and MuJoCo: numpy, OpenCV and scientific Python only, so it ru
 image sequences as well as on the simulator's tours.
 """
 
-from placeclust.online import UNKNOWN, OnlinePlaceClustering
+from placeclust.allocator import keep_frame_buffers
+
+# before any frame is processed: per-frame buffers stay in the heap (see placeclust.allocator)
+keep_frame_buffers()
+
+from placeclust.online import UNKNOWN, OnlinePlaceClustering  # noqa: E402
 
 __all__ = ["UNKNOWN", "OnlinePlaceClustering"]
-__version__ = "0.4.0"
+__version__ = "0.5.0"

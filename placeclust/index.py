@@ -1,12 +1,12 @@
 """Relocalization index: which places does an image look like, without a loop over all kernels.
 
 Each place puts a sample of its heaviest kernel features (``per_place``) into a FLANN index
-(kd-trees for float descriptors, LSH for binary ones), the model being RTAB-Map's FLANN
-vocabulary. New places go to a small brute-force *tail* first; when the tail holds
-``max_tail`` places the whole index is rebuilt ("sealed") from every place's current top
-features, so the build cost is amortised and a query costs one FLANN search plus a bounded
-brute-force one, whatever the map size. A query returns votes: for each image feature, the place
-owning its nearest indexed feature.
+(kd-trees for float descriptors, a hierarchical k-medoids tree under Hamming distance for binary
+ones), the model being RTAB-Map's FLANN vocabulary. New places go to a small brute-force *tail*
+first; when the tail holds ``max_tail`` places the whole index is rebuilt ("sealed") from every
+place's current top features, so the build cost is amortised and a query costs one FLANN search
+plus a bounded brute-force one, whatever the map size. A query returns votes: for each image
+feature, the place owning its nearest indexed feature.
 """
 
 from __future__ import annotations
@@ -18,7 +18,8 @@ import numpy as np
 
 from placeclust.matching import knn2
 
-_KDTREE, _LSH = 1, 6
+_KDTREE, _HIERARCHICAL = 1, 5  # cvflann::flann_algorithm_t
+_HAMMING = 9  # cvflann::FLANN_DIST_HAMMING; OpenCV's Python bindings do not name it
 
 
 class PlaceIndex:
@@ -29,11 +30,12 @@ class PlaceIndex:
         sample: ``sample(place_id) -> descriptors`` gives a place's current top features; it is
             called when a place is added and for every place when the index is rebuilt.
         max_tail: places kept in the brute-force tail before a rebuild.
-        checks: FLANN leaves visited per query (speed/recall trade-off).
+        checks: indexed features FLANN compares per query feature, at least one leaf per tree
+            (speed/recall trade-off).
     """
 
     def __init__(self, binary: bool, sample: Callable[[int], np.ndarray], max_tail: int = 24,
-                 checks: int = 32) -> None:
+                 checks: int = 16) -> None:
         self.binary = binary
         self._sample = sample
         self.max_tail = max_tail
@@ -74,14 +76,24 @@ class PlaceIndex:
         self.n_rebuilds += 1
 
     def _build(self) -> None:
-        # LSH buckets must stay small as the map grows: with 12-bit keys (4,096 buckets per
-        # table) a query against 500 places x 64 ORB features scanned ~15 ms of full buckets,
-        # with 20-bit keys ~5 ms, and the revisits it finds on a 12-room tour were the same
-        # (229 against 228 places after 8,000 steps). Multi-probe 0 was faster still but
-        # opened 258: 52 revisits it failed to shortlist became new places.
-        params = (dict(algorithm=_LSH, table_number=6, key_size=20, multi_probe_level=1)
-                  if self.binary else dict(algorithm=_KDTREE, trees=4))
-        self._flann = cv2.flann_Index(self._data, params)
+        # Measured on the 8,000-frame 12-room tour: its map, sealed whole, then 1,000 of its
+        # frames relocalized through the index with no current place, against an exhaustive
+        # search; and the loop-closure latency of `python -m placeclust.benchmark latency`.
+        if not self.binary:
+            # SIFT: one randomized kd-tree, 16 checks, found the best place for 997 of the
+            # 1,000 frames (4 trees, 32 checks: 999) and kept 500-place loop closures within
+            # 1.1-1.3x of 10-place ones (4 trees, 32 checks: 1.85x, 11 ms of kd-tree search).
+            self._flann = cv2.flann_Index(self._data, dict(algorithm=_KDTREE, trees=1))
+            return
+        # ORB: k-medoids trees (FLANN's hierarchical clustering index), whose query descends to
+        # one leaf per tree whatever the map size. LSH, used before, scans buckets that fill as
+        # the map grows because ORB descriptors are far from uniform: a query against 500
+        # places x 64 features took 4.8 ms with LSH (6 tables, 20-bit keys, multi-probe 1) and
+        # 1.4 ms here (build 45 vs 130 ms, once per max_tail new places). The price is recall:
+        # 972 of the 1,000 frames against LSH's 984, and 4 missed revisits (a new place opened
+        # where an old one was within the threshold) over the tour against 2; one tree: 9.
+        params = dict(algorithm=_HIERARCHICAL, branching=32, trees=4, leaf_max_size=100)
+        self._flann = cv2.flann_Index(self._data, params, _HAMMING)
 
     def votes(self, descriptors: np.ndarray) -> dict[int, int]:
         """Place -> number of ``descriptors`` whose nearest indexed feature belongs to it."""
