@@ -7,6 +7,8 @@
 from __future__ import annotations
 
 import argparse
+import ast
+import inspect
 import json
 import sys
 from pathlib import Path
@@ -14,7 +16,7 @@ from pathlib import Path
 import numpy as np
 
 from placeclust.features import FEATURES
-from placeclust.runner import ALGORITHMS, evaluate, run
+from placeclust.runner import ALGORITHMS, OFFLINE, ONLINE, evaluate, run
 
 TABLE_KEYS = ("precision", "recall", "f_measure", "nmi", "ari", "n_places", "n_rooms",
               "ms_per_frame")
@@ -52,6 +54,28 @@ def load_tour(path: str) -> tuple[np.ndarray, np.ndarray]:
     return frames, room
 
 
+def parse_params(items: list[str] | None, algo: str) -> dict[str, object]:
+    """``NAME=VALUE`` strings as constructor arguments of ``algo``'s recognizer.
+
+    Values are Python literals (``0.9``, ``None``, ``True``) or else plain strings (``clahe``).
+    Raises ``ValueError`` naming a malformed item or a name the constructor does not take.
+    """
+    known = [n for n in inspect.signature({**ONLINE, **OFFLINE}[algo].__init__).parameters
+             if n not in ("self", "features")]
+    params: dict[str, object] = {}
+    for item in items or []:
+        name, sep, text = item.partition("=")
+        if not sep or not name:
+            raise ValueError(f"--param takes NAME=VALUE, got {item!r}")
+        if name not in known:
+            raise ValueError(f"{algo} has no parameter {name!r}; it takes {known}")
+        try:
+            params[name] = ast.literal_eval(text)
+        except (ValueError, SyntaxError):
+            params[name] = text
+    return params
+
+
 def cmd_tour(args: argparse.Namespace) -> None:
     if args.steps < 1:
         raise SystemExit(f"error: --steps must be a positive number of frames, got {args.steps}")
@@ -71,13 +95,15 @@ def cmd_tour(args: argparse.Namespace) -> None:
 
 
 def cmd_cluster(args: argparse.Namespace) -> None:
+    params = parse_params(args.param, args.algo)
     frames, room = load_tour(args.tour)
-    result = run(args.algo, frames, args.features, progress=not args.quiet)
+    result = run(args.algo, frames, args.features, progress=not args.quiet, **params)
     metrics = evaluate(result, room)
     out = Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
     np.save(out / "assignments.npy", result.assignments)
-    meta = {"algo": args.algo, "features": args.features, "tour": str(args.tour)}
+    meta = {"algo": args.algo, "features": args.features, "tour": str(args.tour),
+            "params": params}
     (out / "metrics.json").write_text(json.dumps({**meta, **metrics}, indent=2))
     print(format_table({f"{args.algo}/{args.features}": metrics}))
 
@@ -152,6 +178,9 @@ def build_parser() -> argparse.ArgumentParser:
     cluster.add_argument("--algo", choices=ALGORITHMS, default="online")
     cluster.add_argument("--features", choices=FEATURES, default="sift")
     cluster.add_argument("--tour", required=True, help="path to tour.npz")
+    cluster.add_argument("--param", action="append", metavar="NAME=VALUE",
+                         help="a constructor argument of the recognizer, e.g. "
+                         "t_new_cluster=0.9 or scale=0.75 (repeatable)")
     cluster.add_argument("--out", required=True)
     cluster.add_argument("--quiet", action="store_true")
     cluster.set_defaults(func=cmd_cluster)

@@ -3,6 +3,9 @@ import subprocess
 import sys
 
 import numpy as np
+import pytest
+
+from placeclust.cli import main
 
 
 def test_cluster_cli_writes_consistent_metrics(tmp_path, two_places):
@@ -63,3 +66,31 @@ def test_bad_input_leaves_earlier_results_alone(tmp_path, two_places):
     bench = cli("bench", "--quick", "--workers", "-2", "--out", str(tmp_path / "b"))
     assert bench.returncode != 0 and "--workers" in bench.stderr
     assert not (tmp_path / "b").exists()
+
+
+def test_cluster_cli_passes_and_records_recognizer_parameters(tmp_path, two_places):
+    frames, truth = two_places
+    np.savez(tmp_path / "tour.npz", frames=frames, room=truth)
+    out = tmp_path / "res"
+    main(["cluster", "--features", "orb", "--tour", str(tmp_path / "tour.npz"), "--out", str(out),
+          "--quiet", "--param", "t_new_cluster=0.99", "--param", "max_places=1",
+          "--param", "normalize=clahe"])
+    metrics = json.loads((out / "metrics.json").read_text())
+    assert metrics["params"] == {"t_new_cluster": 0.99, "max_places": 1, "normalize": "clahe"}
+    assert metrics["n_places"] == 1  # max_places reached the recognizer
+
+
+@pytest.mark.parametrize("param, message", [
+    ("t_new=0.9", "online has no parameter 't_new'; it takes ['max_features'"),
+    ("t_new_cluster", "--param takes NAME=VALUE"),
+    ("t_new_cluster=0.5", "t_update_cluster < t_new_cluster"),
+])
+def test_cluster_cli_names_a_bad_parameter_and_writes_nothing(tmp_path, two_places, capsys,
+                                                               param, message):
+    frames, truth = two_places
+    np.savez(tmp_path / "tour.npz", frames=frames, room=truth)
+    with pytest.raises(SystemExit) as exc:
+        main(["cluster", "--tour", str(tmp_path / "tour.npz"), "--out", str(tmp_path / "o"),
+              "--param", param])
+    assert exc.value.code == 2 and message in capsys.readouterr().err
+    assert not (tmp_path / "o").exists()
