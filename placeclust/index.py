@@ -1,12 +1,12 @@
 """Relocalization index: which places does an image look like, without a loop over all kernels.
 
 Each place puts a sample of its heaviest kernel features (``per_place``) into a FLANN index
-(kd-trees for float descriptors, a hierarchical k-medoids tree under Hamming distance for binary
-ones), the model being RTAB-Map's FLANN vocabulary. New places go to a small brute-force *tail*
-first; when the tail holds ``max_tail`` places the whole index is rebuilt ("sealed") from every
-place's current top features, so the build cost is amortised and a query costs one FLANN search
-plus a bounded brute-force one, whatever the map size. A query returns votes: for each image
-feature, the place owning its nearest indexed feature.
+(a randomized kd-tree for float descriptors, hierarchical k-medoids trees under Hamming distance
+for binary ones), the model being RTAB-Map's FLANN vocabulary. New places go to a small
+brute-force *tail* first; when the tail holds ``max_tail`` places the whole index is rebuilt
+("sealed") from every place's current top features, so the build cost is amortised and a query
+costs one FLANN search plus a bounded brute-force one, whatever the map size. A query returns
+votes: for each image feature, the place owning its nearest indexed feature.
 """
 
 from __future__ import annotations
@@ -81,8 +81,8 @@ class PlaceIndex:
         # search; and the loop-closure latency of `python -m placeclust.benchmark latency`.
         if not self.binary:
             # SIFT: one randomized kd-tree, 16 checks, found the best place for 997 of the
-            # 1,000 frames (4 trees, 32 checks: 999) and kept 500-place loop closures within
-            # 1.1-1.3x of 10-place ones (4 trees, 32 checks: 1.85x, 11 ms of kd-tree search).
+            # 1,000 frames (4 trees, 32 checks: 999); 500-place loop closures cost 1.1-1.6x
+            # the 10-place ones over five runs (4 trees, 32 checks: 1.85x, ~11 ms in the tree).
             self._flann = cv2.flann_Index(self._data, dict(algorithm=_KDTREE, trees=1))
             return
         # ORB: k-medoids trees (FLANN's hierarchical clustering index), whose query descends to
