@@ -5,8 +5,8 @@ to 1024x256 for its first octave) and the matcher a ~2 MB similarity matrix, the
 With glibc's defaults a block over 128 KiB is served by ``mmap`` and freed heap tops over
 128 KiB go back to the OS, so these buffers are mapped, page-faulted and zeroed anew each frame.
 Measured on 300 simulator panoramas (512x128) on the 2-core machine of the README: SIFT
-detection 16.8 ms per frame with the defaults, 10.2 ms with the settings below; the online
-recognizer's median frame 23.0 -> 15.1 ms. glibc raises these thresholds by itself after the
+detection 16.8 ms per frame with the defaults, 9.5-11.5 ms with the settings below; the online
+recognizer's median frame 23.0 -> 14.9 ms. glibc raises these thresholds by itself after the
 first large ``free`` of an mmapped block, which is why a process that had built a simulated
 world first (as ``make demo`` does) was already fast: this starts every process there.
 
@@ -19,7 +19,6 @@ from __future__ import annotations
 
 import ctypes
 import os
-import platform
 from collections.abc import Mapping
 
 M_TRIM_THRESHOLD, M_MMAP_THRESHOLD = -1, -3  # <malloc.h>
@@ -37,6 +36,14 @@ def user_has_malloc_settings(environ: Mapping[str, str] = os.environ) -> bool:
             or "glibc.malloc." in environ.get("GLIBC_TUNABLES", ""))
 
 
+def is_glibc() -> bool:
+    """Whether this process runs on glibc, asked of the C library itself (no file is read)."""
+    try:
+        return (os.confstr("CS_GNU_LIBC_VERSION") or "").startswith("glibc")
+    except (ValueError, OSError, AttributeError):  # name unknown on this system, or no confstr
+        return False
+
+
 def keep_frame_buffers(environ: Mapping[str, str] = os.environ) -> bool:
     """Raise glibc's mmap and trim thresholds for this process (see the module docstring).
 
@@ -44,9 +51,7 @@ def keep_frame_buffers(environ: Mapping[str, str] = os.environ) -> bool:
         True if the settings were applied; False on a C library other than glibc or when
         ``environ`` holds the user's own malloc settings.
     """
-    if platform.system() != "Linux" or platform.libc_ver()[0] != "glibc":
-        return False
-    if user_has_malloc_settings(environ):
+    if not is_glibc() or user_has_malloc_settings(environ):
         return False
     try:
         mallopt = ctypes.CDLL(None).mallopt

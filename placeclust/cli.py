@@ -16,7 +16,7 @@ from pathlib import Path
 import numpy as np
 
 from placeclust.features import FEATURES
-from placeclust.runner import ALGORITHMS, OFFLINE, ONLINE, evaluate, run
+from placeclust.runner import ALGORITHMS, evaluate, recognizer_class, run
 
 TABLE_KEYS = ("precision", "recall", "f_measure", "nmi", "ari", "n_places", "n_rooms",
               "ms_per_frame")
@@ -60,7 +60,7 @@ def parse_params(items: list[str] | None, algo: str) -> dict[str, object]:
     Values are Python literals (``0.9``, ``None``, ``True``) or else plain strings (``clahe``).
     Raises ``ValueError`` naming a malformed item or a name the constructor does not take.
     """
-    known = [n for n in inspect.signature({**ONLINE, **OFFLINE}[algo].__init__).parameters
+    known = [n for n in inspect.signature(recognizer_class(algo).__init__).parameters
              if n not in ("self", "features")]
     params: dict[str, object] = {}
     for item in items or []:

@@ -28,12 +28,17 @@ class Result:
     localized: np.ndarray = field(default_factory=lambda: np.zeros(0, bool))
 
 
-def make(algo: str, features: str = "sift", **params: object) -> object:
-    """A fresh recognizer ``algo`` (one of :data:`ALGORITHMS`) using ``features``."""
+def recognizer_class(algo: str) -> type:
+    """The class of ``algo`` (one of :data:`ALGORITHMS`), or a ``ValueError`` naming them."""
     cls = {**ONLINE, **OFFLINE}.get(algo)
     if cls is None:
         raise ValueError(f"unknown algorithm {algo!r}; choose one of {ALGORITHMS}")
-    return cls(features=features, **params)
+    return cls
+
+
+def make(algo: str, features: str = "sift", **params: object) -> object:
+    """A fresh recognizer ``algo`` (one of :data:`ALGORITHMS`) using ``features``."""
+    return recognizer_class(algo)(features=features, **params)
 
 
 def run(algo: str, frames: np.ndarray, features: str = "sift", progress: bool = False,

@@ -1,13 +1,12 @@
 import os
-import platform
 import subprocess
 import sys
 
 import pytest
 
-from placeclust.allocator import keep_frame_buffers, user_has_malloc_settings
+from placeclust.allocator import is_glibc, keep_frame_buffers, user_has_malloc_settings
 
-glibc = pytest.mark.skipif(platform.libc_ver()[0] != "glibc", reason="glibc malloc only")
+glibc = pytest.mark.skipif(not is_glibc(), reason="glibc malloc only")
 
 # Allocates and frees a 2 MB buffer 40 times (a frame's similarity matrix, say) after importing
 # placeclust, and prints the page faults that cost: a fresh mapping faults every page each time.
