@@ -225,7 +225,7 @@ def generate_floor_plan(
     rooms = _name_rooms(region, xs, ys, rng)
     pieces = _wall_pieces(region, xs, ys)
     doors = _place_doors(pieces, len(rooms), extra_doors, rng)
-    walls = _cut_doors(pieces, doors)
+    walls = cut_doors(pieces, doors)
     furniture = _place_furniture(rooms, doors, furniture_per_room, rng)
     return FloorPlan(tuple(rooms), tuple(doors), tuple(walls), tuple(furniture))
 
@@ -334,7 +334,8 @@ def _place_doors(
     return doors
 
 
-def _cut_doors(pieces: list[Wall], doors: list[Door]) -> list[Wall]:
+def cut_doors(pieces: list[Wall], doors: list[Door]) -> list[Wall]:
+    """The wall segments left of ``pieces`` once each door's opening is cut out of its wall."""
     walls = []
     for p in pieces:
         gaps = sorted(
@@ -372,17 +373,24 @@ def _place_furniture(
 ) -> list[Furniture]:
     """Furniture along the walls, clear of doorways, so the room centre stays free."""
     items: list[Furniture] = []
-    kinds = sorted(_FURNITURE)
     for room in rooms:
-        placed: list[Furniture] = []
-        for _ in range(int(rng.integers(per_room[0], per_room[1] + 1))):
-            for _attempt in range(20):
-                f = draw_item(room, kinds[rng.integers(len(kinds))], rng)
-                if clear_of(f, placed, doors):
-                    placed.append(f)
-                    break
-        items += placed
+        items += furnish_room(room, doors, int(rng.integers(per_room[0], per_room[1] + 1)), rng)
     return items
+
+
+def furnish_room(room: Room, doors: list[Door], n_items: int, rng: np.random.Generator
+                 ) -> list[Furniture]:
+    """Up to ``n_items`` pieces of furniture along ``room``'s walls, clear of ``doors`` and of
+    each other (an item that finds no free spot in 20 draws is left out)."""
+    kinds = sorted(_FURNITURE)
+    placed: list[Furniture] = []
+    for _ in range(n_items):
+        for _attempt in range(20):
+            f = draw_item(room, kinds[rng.integers(len(kinds))], rng)
+            if clear_of(f, placed, doors):
+                placed.append(f)
+                break
+    return placed
 
 
 def draw_item(room: Room, kind: str, rng: np.random.Generator) -> Furniture:

@@ -70,6 +70,7 @@ class PlaceNavEnv(gym.Env):
     | ``lighting`` | ``"day"`` | ``"day"``, ``"cloudy"`` or ``"night"``, as in COLD |
     | ``n_cameras`` | 4 | cameras in the ring the panorama is stitched from |
     | ``extra_doors`` | 0.5 | fraction of non-tree walls with a door (loops); 0 gives a tree |
+    | ``layout`` | ``"grid"`` | ``"grid"``: rooms of random sizes; ``"corridor"``: ``n_rooms - 1`` identical offices along a corridor, told apart only by how they look (:mod:`envs.corridor`) |
     | ``control_dt`` | 0.1 | seconds of simulation per step (physics runs at 5 ms) |
     | ``panorama`` | ``True`` | render the panorama into the observation |
     | ``furniture_moved`` | 0 | fraction of furniture moved to another wall of its room |
@@ -107,6 +108,7 @@ class PlaceNavEnv(gym.Env):
         camera_noise: float = 0.0,
         camera_blur: float = 0.0,
         changes_seed: int = 0,
+        layout: str = "grid",
     ) -> None:
         if render_mode is not None and render_mode not in self.metadata["render_modes"]:
             raise ValueError(f"render_mode must be one of {self.metadata['render_modes']} or None, "
@@ -122,9 +124,11 @@ class PlaceNavEnv(gym.Env):
         self._world_id = (f"PlaceNav scene_seed={scene_seed} n_rooms={n_rooms} "
                           f"extra_doors={extra_doors} panorama={panorama_width}x{panorama_height} "
                           f"n_cameras={n_cameras}")
+        if layout != "grid":  # grid worlds keep the fingerprint their saved maps were made with
+            self._world_id += f" layout={layout}"
         self.geometry = PanoramaGeometry(panorama_width, panorama_height, n_cameras)
         self.scene: Scene = build_scene(scene_seed, n_rooms, lighting, n_cameras,
-                                        self.geometry.fovy, extra_doors, self.changes)
+                                        self.geometry.fovy, extra_doors, self.changes, layout)
         self.model = self.scene.model
         self.data = mujoco.MjData(self.model)
         self.robot = Robot(self.model)

@@ -18,12 +18,16 @@ import numpy as np
 
 from envs import textures
 from envs.changes import Changes, rearrange_furniture, swap_posters
+from envs.corridor import corridor_floor_plan
 from envs.layout import WALL_THICKNESS, FloorPlan, Room, Wall, generate_floor_plan
 from envs.robot import MAX_RANGE, N_RANGES, RADIUS
 
 WALL_HEIGHT = 2.2
 CAMERA_HEIGHT = 1.0
 LIGHTING = ("day", "cloudy", "night")
+#: building generators: ``grid`` rooms of random sizes (:mod:`envs.layout`), ``corridor``
+#: identical offices along a corridor (:mod:`envs.corridor`)
+LAYOUTS = ("grid", "corridor")
 
 # Lighting conditions of the COLD database. Each: headlight ambient/diffuse (grey level) and
 # directional lights as (direction, diffuse RGB).
@@ -57,6 +61,7 @@ def build_scene(
     camera_fovy: float = 90.0,
     extra_doors: float = 0.5,
     changes: Changes | None = None,
+    layout: str = "grid",
 ) -> Scene:
     """Generate a floor plan from ``scene_seed`` and compile it into a MuJoCo model.
 
@@ -69,14 +74,20 @@ def build_scene(
         extra_doors: see :func:`envs.layout.generate_floor_plan`.
         changes: furniture and posters moved since the building was new
             (:class:`~envs.changes.Changes`; its camera fields are the env's business).
+        layout: one of :data:`LAYOUTS`; ``corridor`` ignores ``extra_doors``.
 
     Returns:
         The compiled :class:`Scene`.
     """
     if lighting not in _LIGHTS:
         raise ValueError(f"unknown lighting {lighting!r}; choose one of {LIGHTING}")
+    if layout not in LAYOUTS:
+        raise ValueError(f"unknown layout {layout!r}; choose one of {LAYOUTS}")
     rng = np.random.default_rng(scene_seed)
-    plan = generate_floor_plan(n_rooms, rng, extra_doors=extra_doors)
+    if layout == "corridor":
+        plan = corridor_floor_plan(n_rooms, rng)
+    else:
+        plan = generate_floor_plan(n_rooms, rng, extra_doors=extra_doors)
     changes = changes or Changes()
     plan = rearrange_furniture(plan, changes)  # its own random stream: textures stay the same
     spec = mujoco.MjSpec()

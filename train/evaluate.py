@@ -7,7 +7,9 @@
 ``--config`` names the hyperparameter file the agents were trained with (its ``env`` sections
 give the world and the sensors) and ``--policies`` the folder of their ``ppo_<agent>.zip``; the
 robot with 0.8 m proximity sensors is ``--config train/hyperparams/ppo_proximity.yml
---policies assets/policies/proximity``. A config whose robot lacks the compass or the
+--policies assets/policies/proximity``, the corridor of identical offices ``--config
+train/hyperparams/ppo_corridor.yml --policies assets/policies/corridor`` (that folder holds
+its own map, which ``--map`` then defaults to). A config whose robot lacks the compass or the
 rangefinders leaves the planner out of ``--agent all`` (its controller steers with them).
 
 ``ppo`` is the PPO agent that acts on the recognizer's ``place_id``; ``noplace`` and
@@ -134,7 +136,8 @@ def main(argv: list[str] | None = None) -> int:
                                 formatter_class=argparse.RawDescriptionHelpFormatter)
     p.add_argument("--agent", required=True, choices=[*sorted(OBSERVES), "all"])
     p.add_argument("--policy", type=Path, help="policy zip (default: the shipped one)")
-    p.add_argument("--map", type=Path, default=POLICIES, help="folder with map.npz")
+    p.add_argument("--map", type=Path, help="folder with map.npz (default: the --policies "
+                   "folder if it holds one, else the shipped map)")
     p.add_argument("--config", type=Path, default=HYPERPARAMS,
                    help="hyperparameter file the agents were trained with (world, sensors)")
     p.add_argument("--policies", type=Path, default=POLICIES,
@@ -147,9 +150,10 @@ def main(argv: list[str] | None = None) -> int:
     args = p.parse_args(argv)
     if args.agent == "all" and args.policy:
         p.error("--policy names one agent's policy; it cannot go with --agent all")
+    map_dir = args.map or (args.policies if (args.policies / MAP_FILE).is_file() else POLICIES)
     try:
         agents = _table_agents(args.config) if args.agent == "all" else [args.agent]
-        table = [evaluate(a, args.episodes, args.seed, args.policy, args.map, progress=True,
+        table = [evaluate(a, args.episodes, args.seed, args.policy, map_dir, progress=True,
                           config_path=args.config, stochastic=args.stochastic,
                           policies=args.policies) for a in agents]
     except (ValueError, FileNotFoundError) as e:

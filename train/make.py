@@ -12,7 +12,9 @@ and it would not train on a CPU in an hour.
 
 ``sensors`` and ``range_limit`` narrow the robot's own sensors for every agent alike: the
 config ``train/hyperparams/ppo_proximity.yml`` trains a robot whose rangefinders reach 0.8 m
-instead of 4 m, enough not to hit walls but not to see the shape of the room.
+instead of 4 m, enough not to hit walls but not to see the shape of the room. The world can
+take that away instead: ``train/hyperparams/ppo_corridor.yml`` (``layout: corridor``) puts
+the full ring in identical offices along a corridor (:mod:`envs.corridor`).
 """
 
 from __future__ import annotations

@@ -30,6 +30,8 @@ from train.make import AGENTS, make_env
 from train.mapping import EDGES_FILE, MAP_FILE, build_map
 
 TRAINABLE = tuple(a for a in AGENTS if a != "planner")
+#: ``env`` keys of a config that change the world a map is made in (its ``world_id``)
+MAP_WORLD_KEYS = ("layout", "extra_doors", "panorama_width", "panorama_height", "n_cameras")
 
 
 def prepare_map(agent: str, out: Path, env_cfg: dict[str, Any], given: Path | None,
@@ -42,8 +44,9 @@ def prepare_map(agent: str, out: Path, env_cfg: dict[str, Any], given: Path | No
     if agent not in ("place", "planner"):
         return None
     if given is None:
+        world = {k: env_cfg[k] for k in MAP_WORLD_KEYS if k in env_cfg}
         return build_map(out, env_cfg.get("scene_seed", 0), env_cfg.get("n_rooms", 4),
-                         progress=progress, recognizer=map_cfg)
+                         progress=progress, recognizer=map_cfg, **world)
     for name in (MAP_FILE, EDGES_FILE):
         if Path(given, name).resolve() != Path(out, name).resolve():
             shutil.copy(Path(given, name), out / name)

@@ -70,3 +70,10 @@ def test_the_shipped_proximity_robot_differs_from_the_main_one_only_in_range():
     proximity = read_config(HYPERPARAMS.parent / "ppo_proximity.yml")
     for name, section in read_config(HYPERPARAMS).items():
         assert proximity[name] == {**section, "env": {**section["env"], "range_limit": 0.8}}
+
+
+def test_the_corridor_world_differs_from_the_main_one_only_in_the_world():
+    corridor = read_config(HYPERPARAMS.parent / "ppo_corridor.yml")
+    world = {"layout": "corridor", "n_rooms": 5, "max_episode_steps": 250}
+    for name, section in read_config(HYPERPARAMS).items():
+        assert corridor[name] == {**section, "env": {**section["env"], **world}}

@@ -158,3 +158,23 @@ def test_shipped_proximity_policies_fit_their_config():
         scores = evaluate(agent, 1, seed=1000, config_path=config,
                           policies=Path(POLICIES) / "proximity")
         assert scores["episodes"] == 1
+
+
+def test_a_corridor_map_is_built_in_the_corridor_and_refused_elsewhere(tmp_path):
+    from train.train import prepare_map
+
+    env_cfg = {"scene_seed": 0, "n_rooms": 5, "layout": "corridor", "max_episode_steps": 20}
+    path = prepare_map("place", tmp_path, env_cfg, None, progress=False)
+    make_env("place", map_path=path, **env_cfg).close()  # its world: accepted
+    with pytest.raises(ValueError, match="layout=corridor"):
+        make_env("place", map_path=path, n_rooms=5)  # the grid world of 5 rooms: refused
+
+
+def test_shipped_corridor_policies_and_map_fit_their_config(tmp_path):
+    """``--policies assets/policies/corridor`` finds its own map: without it the place agent
+    would load the grid world's map and be refused."""
+    config = Path(__file__).resolve().parents[2] / "train" / "hyperparams" / "ppo_corridor.yml"
+    out = tmp_path / "ppo.json"
+    assert main(["--agent", "ppo", "--episodes", "1", "--config", str(config),
+                 "--policies", str(Path(POLICIES) / "corridor"), "--json", str(out)]) == 0
+    assert json.loads(out.read_text())["episodes"] == 1
