@@ -3,8 +3,8 @@
 In :func:`envs.layout.generate_floor_plan`'s buildings every room has its own size and door
 pattern, so a ring of rangefinders and a compass already say which room the robot is in. Here
 the offices are copies of one another (same size, one door in the same place, the same
-furniture in the same spots) and the corridor is long enough that from the middle offices'
-doors neither of its ends is within the rangefinders' 4 m. Only what the rooms look like
+furniture in the same spots), and with the default 3.5 m offices neither end of the corridor
+is within the rangefinders' 4 m of any door but the two end offices'. Only what the rooms look like
 (their textures and posters, drawn per room as in every world) tells them apart: the setting
 in which a place recognizer earns its keep, as on the COLD database's corridors of offices.
 
@@ -49,7 +49,8 @@ def corridor_floor_plan(
 
     Returns:
         A :class:`~envs.layout.FloorPlan` whose offices each have one door, in the middle of
-        their corridor wall; the corridor has no furniture.
+        their corridor wall; the corridor has no furniture. (The env's ``furniture_moved`` and
+        ``furniture_removed`` change each office on its own, so they break the likeness.)
     """
     if not isinstance(n_rooms, (int, np.integer)) or not 2 <= n_rooms <= MAX_ROOMS:
         raise ValueError(f"a corridor building has 2 to {MAX_ROOMS} rooms (the corridor and at "

@@ -90,7 +90,7 @@ class _Agent:
 
 
 def evaluate(agent: str, episodes: int, seed: int, policy: Path | None = None,
-             map_dir: Path = POLICIES, progress: bool = False,
+             map_dir: Path | None = None, progress: bool = False,
              config_path: Path = HYPERPARAMS, stochastic: bool = False,
              policies: Path = POLICIES) -> dict[str, float]:
     """Run ``episodes`` evaluation episodes of ``agent``; returns the scores.
@@ -100,7 +100,8 @@ def evaluate(agent: str, episodes: int, seed: int, policy: Path | None = None,
 
     The world and task settings are the ``env`` section the agent was trained with in
     ``config_path`` (the ``default`` section for ``random`` and ``planner``). Without
-    ``policy``, a PPO agent's policy is ``policies/ppo_<observations>.zip``.
+    ``policy``, a PPO agent's policy is ``policies/ppo_<observations>.zip``; without
+    ``map_dir``, the map is ``policies``' own ``map.npz`` if it has one, else the shipped one.
     """
     if agent not in OBSERVES:
         raise ValueError(f"unknown agent {agent!r}; choose one of {sorted(OBSERVES)}")
@@ -111,6 +112,8 @@ def evaluate(agent: str, episodes: int, seed: int, policy: Path | None = None,
         if not Path(policy).is_file():
             raise FileNotFoundError(f"no policy file {policy}; train one with python -m "
                                     f"train.train --agent {OBSERVES[agent]}")
+    if map_dir is None:
+        map_dir = policies if (Path(policies) / MAP_FILE).is_file() else POLICIES
     env_cfg = env_section(config_path, OBSERVES[agent])
     looks = OBSERVES[agent] in ("place", "planner")
     env = make_env(OBSERVES[agent], map_path=Path(map_dir) / MAP_FILE if looks else None,
@@ -150,10 +153,9 @@ def main(argv: list[str] | None = None) -> int:
     args = p.parse_args(argv)
     if args.agent == "all" and args.policy:
         p.error("--policy names one agent's policy; it cannot go with --agent all")
-    map_dir = args.map or (args.policies if (args.policies / MAP_FILE).is_file() else POLICIES)
     try:
         agents = _table_agents(args.config) if args.agent == "all" else [args.agent]
-        table = [evaluate(a, args.episodes, args.seed, args.policy, map_dir, progress=True,
+        table = [evaluate(a, args.episodes, args.seed, args.policy, args.map, progress=True,
                           config_path=args.config, stochastic=args.stochastic,
                           policies=args.policies) for a in agents]
     except (ValueError, FileNotFoundError) as e:
