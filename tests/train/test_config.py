@@ -72,8 +72,9 @@ def test_the_shipped_proximity_robot_differs_from_the_main_one_only_in_range():
         assert proximity[name] == {**section, "env": {**section["env"], "range_limit": 0.8}}
 
 
-def test_the_corridor_world_differs_from_the_main_one_only_in_the_world():
+def test_the_corridor_config_changes_the_world_and_budget_not_the_ppo_settings():
     corridor = read_config(HYPERPARAMS.parent / "ppo_corridor.yml")
-    world = {"layout": "corridor", "n_rooms": 5, "max_episode_steps": 250}
+    world = {"layout": "corridor", "n_rooms": 5, "control_dt": 0.4, "max_episode_steps": 125}
     for name, section in read_config(HYPERPARAMS).items():
-        assert corridor[name] == {**section, "env": {**section["env"], **world}}
+        assert corridor[name] == {**section, "env": {**section["env"], **world},
+                                  "n_timesteps": 200000}
