@@ -12,4 +12,4 @@ keep_frame_buffers()
 from placeclust.online import UNKNOWN, OnlinePlaceClustering  # noqa: E402
 
 __all__ = ["UNKNOWN", "OnlinePlaceClustering"]
-__version__ = "0.5.1"
+__version__ = "0.6.0"

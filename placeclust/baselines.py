@@ -91,11 +91,13 @@ class KMeansPlaces:
         seed: seeds the vocabulary and k-means.
         normalize: contrast normalization (:class:`~placeclust.features.FeatureExtractor`).
         scale: resize factor before detection (:class:`~placeclust.features.FeatureExtractor`).
+        view: ``"full"`` or ``"sides"`` of a panorama (:data:`~placeclust.features.VIEWS`).
     """
 
     def __init__(self, features: str = "sift", n_clusters: int | None = None,
                  n_words: int = 200, max_features: int = 500, seed: int = 0,
-                 normalize: str | None = "clahe", scale: float = 1.0) -> None:
+                 normalize: str | None = "clahe", scale: float = 1.0, view: str = "full"
+                 ) -> None:
         self.features = features
         self.n_clusters = n_clusters
         self.n_words = n_words
@@ -103,9 +105,11 @@ class KMeansPlaces:
         self.seed = seed
         self.normalize = normalize
         self.scale = scale
+        self.view = view
 
     def _prepare(self, frames: np.ndarray) -> tuple[np.ndarray, int]:
-        ext = FeatureExtractor(self.features, self.max_features, self.normalize, self.scale)
+        ext = FeatureExtractor(self.features, self.max_features, self.normalize, self.scale,
+                               self.view)
         descs = describe_all(frames, ext)
         k = self.n_clusters or estimate_k(descs, ext.binary)
         return bag_of_words(descs, ext.binary, self.n_words, self.seed), min(k, len(frames))

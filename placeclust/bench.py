@@ -28,6 +28,7 @@ How it is run:
 from __future__ import annotations
 
 import hashlib
+import inspect
 import json
 import os
 import platform
@@ -40,7 +41,7 @@ import numpy as np
 from placeclust import __version__
 from placeclust.atomic import write_atomic
 from placeclust.features import FEATURES
-from placeclust.runner import ALGORITHMS
+from placeclust.runner import ALGORITHMS, recognizer_class
 
 CROSS_ALGOS = ("online",)  # recognizers with a fixed-map (localize-only) mode
 CONDITIONS = ("day", "cloudy", "night", "moved", "noisy")  # the names of envs.changes.CONDITIONS
@@ -60,6 +61,7 @@ class RunSpec:
     steps_per_room: int
     width: int = 512
     height: int = 128
+    params: tuple[tuple[str, object], ...] = ()
 
     @property
     def key(self) -> str:
@@ -90,9 +92,17 @@ class Matrix:
     latency_sizes: tuple[int, ...] = (10, 50, 100)
     width: int = 512
     height: int = 128
+    #: constructor arguments given to every recognizer of the matrix, as ``(name, value)``
+    params: tuple[tuple[str, object], ...] = ()
 
     def __post_init__(self) -> None:
         _check_choices("algos", self.algos, ALGORITHMS)
+        for algo in self.algos:
+            known = inspect.signature(recognizer_class(algo).__init__).parameters
+            for name, _ in self.params:
+                if name not in known or name in ("self", "features"):
+                    raise ValueError(f"{algo} has no parameter {name!r}: give params that "
+                                     "every recognizer of the matrix takes, or fewer --algos")
         _check_choices("features", self.features + self.latency_features, FEATURES)
         for condition in self.conditions:
             _check_choices("conditions", tuple(condition.split(">")), CONDITIONS)
@@ -123,7 +133,8 @@ class Matrix:
                         for n in self.rooms:
                             for seed in self.tour_seeds:
                                 out.append(RunSpec(algo, feat, scene, n, condition, seed,
-                                                   self.steps_per_room, self.width, self.height))
+                                                   self.steps_per_room, self.width, self.height,
+                                                   self.params))
         return out
 
 
@@ -276,10 +287,11 @@ def _tour_rows(specs: tuple[RunSpec, ...]) -> Iterator[dict]:
             pred, metrics = _cross_condition(spec, frames, room, test_frames, test_room)
             truth = test_room
         else:
-            result = run(spec.algo, frames, spec.features)
+            result = run(spec.algo, frames, spec.features, **dict(spec.params))
             pred, truth, metrics = result.assignments, room, evaluate(result, room)
+        # params as JSON gives them back from the store, so every executor returns equal rows
         yield {"key": spec.key, "kind": "run", **asdict(spec), **metrics, **versions(),
-               "assignments": pred, "truth": truth}
+               "params": [list(p) for p in spec.params], "assignments": pred, "truth": truth}
 
 
 def _record(spec: RunSpec) -> tuple[np.ndarray, np.ndarray]:
@@ -302,7 +314,7 @@ def _cross_condition(spec: RunSpec, frames: np.ndarray, room: np.ndarray,
     from placeclust.metrics import place_to_room, score
     from placeclust.runner import evaluate, localize, run
 
-    mapped = run(spec.algo, frames, spec.features)
+    mapped = run(spec.algo, frames, spec.features, **dict(spec.params))
     rooms_of = place_to_room(mapped.assignments, room)
     mapped.model.reset_position()
     tested = localize(mapped.model, test_frames)

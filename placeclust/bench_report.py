@@ -16,8 +16,14 @@ METRIC_COLUMNS = ["precision", "recall", "f_measure", "nmi", "ari", "n_places", 
 TABLE_KEYS = ("precision", "recall", "nmi", "ari")
 
 
+def params_text(params: object) -> str:
+    """Recognizer parameters of a run as ``name=value`` joined by commas ("" for none)."""
+    return ", ".join(f"{name}={value}" for name, value in params or ())
+
+
 def write_csv(rows: list[dict], path: str | Path) -> None:
     """One line per run: configuration, metrics, then the versions that produced it."""
+    rows = [{**r, "params": params_text(r.get("params"))} for r in rows]
     columns = SPEC_COLUMNS + METRIC_COLUMNS
     columns += sorted({k for r in rows for k in r} - set(columns) - {"kind"})
     with open(path, "w", newline="") as f:
@@ -29,7 +35,8 @@ def write_csv(rows: list[dict], path: str | Path) -> None:
 def _methods(rows: list[dict]) -> dict[tuple[str, str, str], list[dict]]:
     groups: dict[tuple[str, str, str], list[dict]] = {}
     for r in rows:
-        groups.setdefault((r["algo"], r["features"], r["condition"]), []).append(r)
+        feat = ", ".join(filter(None, (r["features"], params_text(r.get("params")))))
+        groups.setdefault((r["algo"], feat, r["condition"]), []).append(r)
     return groups
 
 

@@ -62,13 +62,20 @@ def parse_params(items: list[str] | None, algo: str) -> dict[str, object]:
     """
     known = [n for n in inspect.signature(recognizer_class(algo).__init__).parameters
              if n not in ("self", "features")]
+    params = literal_params(items)
+    for name in params:
+        if name not in known:
+            raise ValueError(f"{algo} has no parameter {name!r}; it takes {known}")
+    return params
+
+
+def literal_params(items: list[str] | None) -> dict[str, object]:
+    """``NAME=VALUE`` strings as a dict, values parsed as in :func:`parse_params`."""
     params: dict[str, object] = {}
     for item in items or []:
         name, sep, text = item.partition("=")
         if not sep or not name:
             raise ValueError(f"--param takes NAME=VALUE, got {item!r}")
-        if name not in known:
-            raise ValueError(f"{algo} has no parameter {name!r}; it takes {known}")
         try:
             params[name] = ast.literal_eval(text)
         except (ValueError, SyntaxError):
@@ -127,6 +134,8 @@ def cmd_bench(args: argparse.Namespace) -> None:
         ("latency_sizes", args.latency_sizes)) if value is not None}
     if args.steps_per_room is not None:
         overrides["steps_per_room"] = args.steps_per_room
+    if args.param:
+        overrides["params"] = tuple(literal_params(args.param).items())
     if args.workers < 0:
         raise ValueError(f"--workers must be 0 (one per core) or more, got {args.workers}")
     matrix = replace(PRESETS[preset], **overrides)
@@ -151,6 +160,9 @@ def _add_bench(sub: argparse._SubParsersAction) -> None:
     bench.add_argument("--steps-per-room", type=int)
     bench.add_argument("--latency-sizes", nargs="*", type=int,
                        help="map sizes of the latency sweep (none: skip it)")
+    bench.add_argument("--param", action="append", metavar="NAME=VALUE",
+                       help="a constructor argument of every recognizer run (repeatable), "
+                            "e.g. view=sides")
     bench.add_argument("--workers", type=int, default=0, help="processes; 0: one per core")
     bench.add_argument("--executor", choices=("process", "ray"), default="process")
     bench.add_argument("--ray-address", help="Ray cluster to join (default: start a local one)")

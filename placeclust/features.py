@@ -16,6 +16,9 @@ Frames can be resized by ``scale`` before detection (keypoint coordinates are gi
 the frame's pixels). OpenCV's SIFT doubles its input for its first octave, so on simulator
 panoramas ``scale=0.75`` (384x96) still yields ~470 of the 500 features of a 512x128 frame, in
 7.6-8.3 instead of 9.5-11.5 ms (README, "Measured figures").
+
+On 360° panoramas ``view="sides"`` keeps only the keypoints seen at the robot's left and right
+(see :data:`VIEWS`): a sideways view changes room as the robot passes the door.
 """
 
 from __future__ import annotations
@@ -27,6 +30,14 @@ import numpy as np
 
 FEATURES = ("sift", "kaze", "surf", "orb", "akaze")
 NORMALIZE = (None, "equalize", "clahe")
+#: ``"full"``: the whole frame (any camera). ``"sides"``: for 360° panoramas whose centre column
+#: looks along the robot's heading (the convention of ``envs.panorama``), the keypoints within
+#: 45° of the robot's left and right (columns ``W/4 ± W/8`` and ``3W/4 ± W/8``), about half of
+#: them. A panorama sees the next room through a doorway before the robot reaches it and the
+#: last room after, so place boundaries fall anywhere near a door; a view to the side swaps
+#: rooms as the robot passes it. Kept after the ``max_features`` strongest of the whole frame
+#: are chosen.
+VIEWS = ("full", "sides")
 
 
 @dataclass(frozen=True)
@@ -39,6 +50,14 @@ class Features:
 
     def __len__(self) -> int:
         return len(self.descriptors)
+
+
+def _sides(feats: Features, width: int) -> Features:
+    """The keypoints within 45° of the robot's left and right on a ``width``-wide panorama."""
+    x = feats.xy[:, 0]
+    keep = ((np.abs(x - width / 4) < width / 8) | (np.abs(x - 3 * width / 4) < width / 8))
+    return Features(feats.xy[keep], np.ascontiguousarray(feats.descriptors[keep]),
+                    feats.binary)
 
 
 def _cv2_factory(name: str):
@@ -62,14 +81,18 @@ class FeatureExtractor:
             dependent on the light: at night a contrast threshold keeps other keypoints.
         scale: resize factor in (0, 1] applied before detection (``cv2.INTER_AREA``); smaller
             is faster and finds fewer, coarser keypoints.
+        view: which keypoints to keep, one of :data:`VIEWS`.
     """
 
     def __init__(self, name: str = "sift", max_features: int = 500,
-                 normalize: str | None = "clahe", scale: float = 1.0) -> None:
+                 normalize: str | None = "clahe", scale: float = 1.0, view: str = "full") -> None:
         if name not in FEATURES:
             raise ValueError(f"unknown feature type {name!r}; choose one of {FEATURES}")
         if normalize not in NORMALIZE:
             raise ValueError(f"unknown normalize {normalize!r}; choose one of {NORMALIZE}")
+        if view not in VIEWS:
+            raise ValueError(f"unknown view {view!r}; choose one of {VIEWS}")
+        self.view = view
         self.normalize = normalize
         self._clahe = cv2.createCLAHE(clipLimit=2.0, tileGridSize=(8, 2))
         if max_features < 1:
@@ -93,7 +116,7 @@ class FeatureExtractor:
 
     def __getstate__(self) -> dict:  # cv2 objects do not pickle; rebuild them on load
         return {"name": self.name, "max_features": self.max_features,
-                "normalize": self.normalize, "scale": self.scale}
+                "normalize": self.normalize, "scale": self.scale, "view": self.view}
 
     def __setstate__(self, state: dict) -> None:
         self.__init__(**state)
@@ -101,6 +124,7 @@ class FeatureExtractor:
     def extract(self, gray: np.ndarray) -> Features:
         """Features of a 2-D uint8 image (see :func:`placeclust.frames.to_gray`); keypoint
         coordinates are in ``gray``'s pixels whatever ``scale``."""
+        width = gray.shape[1]
         if self.scale != 1.0:
             h, w = gray.shape
             size = (max(1, round(w * self.scale)), max(1, round(h * self.scale)))
@@ -110,6 +134,8 @@ class FeatureExtractor:
             # pixel centres map as (x + 0.5) / scale - 0.5
             xy = (feats.xy + np.float32(0.5)) / np.float32(self.scale) - np.float32(0.5)
             feats = Features(xy, feats.descriptors, feats.binary)
+        if self.view == "sides" and len(feats):
+            feats = _sides(feats, width)
         return feats
 
     def _detect(self, gray: np.ndarray) -> Features:

@@ -33,12 +33,13 @@ class KAdjacentUnion:
         kernel_capacity: features kept per kernel.
         normalize: contrast normalization (:class:`~placeclust.features.FeatureExtractor`).
         scale: resize factor before detection (:class:`~placeclust.features.FeatureExtractor`).
+        view: ``"full"`` or ``"sides"`` of a panorama (:data:`~placeclust.features.VIEWS`).
     """
 
     def __init__(self, features: str = "sift", join_similarity: float = 0.15, window: int = 15,
                  max_iter: int = 8, kernel_stride: int = 3, kernel_capacity: int = 1200,
                  max_features: int = 500, normalize: str | None = "clahe",
-                 scale: float = 1.0) -> None:
+                 scale: float = 1.0, view: str = "full") -> None:
         self.features = features
         self.join_similarity = join_similarity
         self.window = window
@@ -48,12 +49,14 @@ class KAdjacentUnion:
         self.max_features = max_features
         self.normalize = normalize
         self.scale = scale
+        self.view = view
         self.graph = nx.Graph()
         self.n_iter_ = 0
 
     def fit_predict(self, frames: np.ndarray) -> np.ndarray:
         """Place id per frame, (T,) int, numbered 0..n_places-1."""
-        ext = FeatureExtractor(self.features, self.max_features, self.normalize, self.scale)
+        ext = FeatureExtractor(self.features, self.max_features, self.normalize, self.scale,
+                               self.view)
         descs = describe_all(frames, ext)
         bounds = [0, *scene_changes(descs, ext.binary, self.window).tolist(), len(descs)]
         labels = np.zeros(len(descs), np.int64)

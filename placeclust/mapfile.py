@@ -25,7 +25,8 @@ if TYPE_CHECKING:
 FORMAT = "placeclust-map"
 # 2: the parameters include ``normalize``; version-1 maps were made from raw frames
 # 3: the parameters include ``scale``; older maps were made from full-size frames
-VERSION = 3
+# 4: the parameters include ``view``; older maps hold features of the whole frame
+VERSION = 4
 
 
 def save_map(model: OnlinePlaceClustering, path: str | os.PathLike, world: str = "") -> Path:
@@ -110,6 +111,8 @@ def load_map(path: str | os.PathLike, world: str | None = None) -> OnlinePlaceCl
             params.setdefault("normalize", None)  # the kernels hold features of raw frames
         if meta["version"] < 3:
             params.setdefault("scale", 1.0)  # ... and of full-size frames
+        if meta["version"] < 4:
+            params.setdefault("view", "full")  # ... and of the whole frame
         model = OnlinePlaceClustering(**params)
         model.restore(
             kernels={p: (arrays[f"k{p}_desc"], arrays[f"k{p}_w"], arrays[f"k{p}_seen"],

@@ -76,6 +76,15 @@ class OnlinePlaceClustering:
             by day and localizing at night, from 0.76 to 0.94 (``placeclust bench``).
         scale: resize factor in (0, 1] before feature detection (see
             :class:`~placeclust.features.FeatureExtractor`); saved maps record it.
+        view: ``"full"`` (any camera) or, for 360° panoramas with the heading at the centre
+            column, ``"sides"``: only the features within 45° of the robot's left and right
+            (:data:`~placeclust.features.VIEWS`). A whole panorama sees the next room through
+            a doorway before the robot reaches it, so places open early or late; a sideways
+            view changes room as the robot passes the door. On 16 simulated tours (4 and 8
+            rooms) precision rose from 0.93 to 0.96 with ``kernel_capacity=600`` (half the
+            features, half the kernel) and to 0.97 with ``t_new_cluster=0.9,
+            t_update_cluster=0.5`` as well, at 3.3 and 2.5 places per room against 2.4
+            (``README``, "Side views"). Saved maps record it.
 
     Example:
         >>> import numpy as np
@@ -103,6 +112,7 @@ class OnlinePlaceClustering:
         t_localize: float = 0.98,
         normalize: str | None = "clahe",
         scale: float = 1.0,
+        view: str = "full",
     ) -> None:
         if not 0.0 <= t_update_cluster < t_new_cluster < 1.0:
             raise ValueError(
@@ -124,7 +134,8 @@ class OnlinePlaceClustering:
         self.t_localize = t_localize
         self.normalize = normalize
         self.scale = scale
-        self._extractor = FeatureExtractor(features, max_features, normalize, scale)
+        self.view = view
+        self._extractor = FeatureExtractor(features, max_features, normalize, scale, view)
         self.kernels: dict[int, UnionKernel] = {}
         self.graph = nx.Graph()
         self.current: int = UNKNOWN

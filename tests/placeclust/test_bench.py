@@ -55,6 +55,7 @@ def test_matrix_leaves_cross_condition_to_online() -> None:
     ({"rooms": (0,)}, "at least 1"),
     ({"scenes": (-1,)}, "non-negative"),
     ({"latency_sizes": (1,)}, "at least 2"),
+    ({"params": (("t_new_cluster", 0.9),)}, "kmeans has no parameter 't_new_cluster'"),
 ])
 def test_matrix_names_bad_axes(bad: dict, message: str) -> None:
     with pytest.raises(ValueError, match=message):
@@ -136,6 +137,25 @@ def test_ray_gives_the_same_rows(tiny_bench, tmp_path) -> None:
         ray.shutdown()
     assert _stable(on_ray) == _stable(rows)
     assert (tmp_path / "runs" / f"{rows[0]['key']}.npz").is_file()  # the driver stored them
+
+
+def test_params_reach_every_run_and_name_it(tmp_path) -> None:
+    """``--param`` values go to the recognizer of every run (the same places as a direct run
+    with them), into the run's key, the CSV and the table's method name."""
+    from envs.demo import record_tour
+    from placeclust.runner import run
+
+    matrix = replace(TINY, algos=("online",), conditions=("day",), latency_sizes=(),
+                     params=(("view", "sides"), ("kernel_capacity", 600)))
+    assert matrix.runs()[0].key != replace(matrix, params=()).runs()[0].key
+    rows = run_bench(matrix, tmp_path, workers=1, progress=False)
+    tour, _ = record_tour(0, 2, 24, 0, progress=False)
+    direct = run("online", tour.frames, "orb", view="sides", kernel_capacity=600)
+    stored = RunStore(tmp_path / "runs").arrays(rows[0]["key"])["assignments"]
+    np.testing.assert_array_equal(stored, direct.assignments)
+    assert _read_csv(tmp_path / "results.csv")[0]["params"] == "view=sides, kernel_capacity=600"
+    assert "| online (orb, view=sides, kernel_capacity=600) | day |" in (
+        tmp_path / "results.md").read_text()
 
 
 def test_cli_bench_rejects_bad_axes(capsys, tmp_path) -> None:

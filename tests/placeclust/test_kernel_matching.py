@@ -103,3 +103,25 @@ def test_scaled_detection_reports_keypoints_in_frame_pixels():
     assert FeatureExtractor("sift").scale == 1.0
     with pytest.raises(ValueError, match="scale must be in"):
         FeatureExtractor("sift", scale=1.5)
+
+
+def test_side_view_keeps_the_keypoints_at_the_robots_left_and_right():
+    """``view="sides"`` keeps, of the whole frame's features, those within 45° of the robot's
+    left (column W/4) and right (3W/4): the same keypoints, no others."""
+    import cv2
+    import pytest
+
+    from placeclust.features import FeatureExtractor
+    from placeclust.synthetic import textured
+
+    gray = cv2.cvtColor(textured(5), cv2.COLOR_RGB2GRAY)
+    width = gray.shape[1]
+    full = FeatureExtractor("sift").extract(gray)
+    sides = FeatureExtractor("sift", view="sides").extract(gray)
+    x = full.xy[:, 0]
+    inside = (np.abs(x - width / 4) < width / 8) | (np.abs(x - 3 * width / 4) < width / 8)
+    assert 0 < inside.sum() < len(full)
+    np.testing.assert_array_equal(sides.xy, full.xy[inside])
+    np.testing.assert_array_equal(sides.descriptors, full.descriptors[inside])
+    with pytest.raises(ValueError, match="unknown view 'front'"):
+        FeatureExtractor("sift", view="front")

@@ -74,19 +74,23 @@ def test_version_1_maps_keep_reading_raw_frames(mapped, tmp_path):
     assert OnlinePlaceClustering.load(tmp_path / "m.npz").normalize == "clahe"
 
 
-def test_version_2_maps_load_at_full_size_and_scale_round_trips(frames, tmp_path):
-    """Maps written before ``scale`` existed were made from full-size frames."""
-    model = OnlinePlaceClustering(features="sift", scale=0.75)
+@pytest.mark.parametrize("name, value, version, before", [
+    ("scale", 0.75, 2, 1.0),  # maps before ``scale`` were made from full-size frames
+    ("view", "sides", 3, "full"),  # maps before ``view`` hold features of the whole frame
+])
+def test_older_maps_load_as_they_were_made_and_new_parameters_round_trip(
+        frames, tmp_path, name, value, version, before):
+    model = OnlinePlaceClustering(features="sift", **{name: value})
     for f in frames:
         model.learn_one(f)
     model.save(tmp_path / "m.npz")
     meta, arrays = read_meta(tmp_path / "m.npz")
-    meta["version"] = 2
-    del meta["params"]["scale"]
-    np.savez(tmp_path / "v2.npz", meta=np.array(json.dumps(meta)), **arrays)
-    assert OnlinePlaceClustering.load(tmp_path / "v2.npz").scale == 1.0
+    meta["version"] = version
+    del meta["params"][name]
+    np.savez(tmp_path / "old.npz", meta=np.array(json.dumps(meta)), **arrays)
+    assert getattr(OnlinePlaceClustering.load(tmp_path / "old.npz"), name) == before
     loaded = OnlinePlaceClustering.load(tmp_path / "m.npz")
-    assert loaded.scale == 0.75
+    assert getattr(loaded, name) == value
     assert [loaded.predict_one(f) for f in frames] == [model.predict_one(f) for f in frames]
 
 

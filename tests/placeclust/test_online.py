@@ -130,3 +130,21 @@ def test_any_array_is_a_place_an_unknown_or_a_named_error(frame):
         assert place == UNKNOWN or 0 <= place < model.n_places
         assert frame.shape[:2] == base.shape[:2]
     assert model.learn_predict_one(base) == 0  # still recognises its place
+
+
+def test_side_view_ignores_what_lies_ahead_and_behind():
+    """Two panoramas with the same sides but other things ahead of and behind the robot: with
+    the same thresholds, one place when only the sides are looked at, two with the whole view."""
+    from placeclust.synthetic import textured
+
+    first, other = textured(1), textured(2)
+    second, width = first.copy(), first.shape[1]
+    for quarter in (slice(0, width // 8), slice(3 * width // 8, 5 * width // 8),
+                    slice(7 * width // 8, width)):  # behind, ahead, behind
+        second[:, quarter] = other[:, quarter]
+    places = {}
+    for view in ("sides", "full"):
+        model = OnlinePlaceClustering(features="sift", view=view, t_new_cluster=0.5,
+                                      t_update_cluster=0.1)
+        places[view] = [model.learn_predict_one(f) for f in (first, second)]
+    assert places == {"sides": [0, 0], "full": [0, 1]}
