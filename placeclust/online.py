@@ -79,11 +79,12 @@ class OnlinePlaceClustering:
         view: ``"full"`` (any camera) or, for 360° panoramas with the heading at the centre
             column, ``"sides"``: only the features within 45° of the robot's left and right
             (:data:`~placeclust.features.VIEWS`). A whole panorama sees the next room through
-            a doorway before the robot reaches it, so places open early or late; a sideways
-            view changes room as the robot passes the door. On 16 simulated tours (4 and 8
-            rooms) precision rose from 0.93 to 0.96 with ``kernel_capacity=600`` (half the
-            features, half the kernel) and to 0.97 with ``t_new_cluster=0.9,
-            t_update_cluster=0.5`` as well, at 3.3 and 2.5 places per room against 2.4
+            a doorway before the robot reaches it and the last room after, so places open
+            early or late; a sideways view changes room as the robot passes the door. On 16
+            simulated tours (4 and 8 rooms) precision rose from 0.93 to 0.96 with
+            ``kernel_capacity=600`` (half the features, half the kernel) and to 0.97 with
+            ``t_new_cluster=0.9, t_update_cluster=0.5`` as well, at 3.3 and 2.5 places per
+            room against 2.4
             (``README``, "Side views"). Saved maps record it.
 
     Example:
