@@ -28,7 +28,6 @@ How it is run:
 from __future__ import annotations
 
 import hashlib
-import inspect
 import json
 import os
 import platform
@@ -41,7 +40,7 @@ import numpy as np
 from placeclust import __version__
 from placeclust.atomic import write_atomic
 from placeclust.features import FEATURES
-from placeclust.runner import ALGORITHMS, recognizer_class
+from placeclust.runner import ALGORITHMS, check_params
 
 CROSS_ALGOS = ("online",)  # recognizers with a fixed-map (localize-only) mode
 CONDITIONS = ("day", "cloudy", "night", "moved", "noisy")  # the names of envs.changes.CONDITIONS
@@ -97,12 +96,8 @@ class Matrix:
 
     def __post_init__(self) -> None:
         _check_choices("algos", self.algos, ALGORITHMS)
-        for algo in self.algos:
-            known = inspect.signature(recognizer_class(algo).__init__).parameters
-            for name, _ in self.params:
-                if name not in known or name in ("self", "features"):
-                    raise ValueError(f"{algo} has no parameter {name!r}: give params that "
-                                     "every recognizer of the matrix takes, or fewer --algos")
+        for algo in self.algos:  # every recognizer of the matrix must take every param
+            check_params(algo, (name for name, _ in self.params))
         _check_choices("features", self.features + self.latency_features, FEATURES)
         for condition in self.conditions:
             _check_choices("conditions", tuple(condition.split(">")), CONDITIONS)

@@ -8,7 +8,6 @@ from __future__ import annotations
 
 import argparse
 import ast
-import inspect
 import json
 import sys
 from pathlib import Path
@@ -16,7 +15,7 @@ from pathlib import Path
 import numpy as np
 
 from placeclust.features import FEATURES
-from placeclust.runner import ALGORITHMS, evaluate, recognizer_class, run
+from placeclust.runner import ALGORITHMS, check_params, evaluate, run
 
 TABLE_KEYS = ("precision", "recall", "f_measure", "nmi", "ari", "n_places", "n_rooms",
               "ms_per_frame")
@@ -60,12 +59,8 @@ def parse_params(items: list[str] | None, algo: str) -> dict[str, object]:
     Values are Python literals (``0.9``, ``None``, ``True``) or else plain strings (``clahe``).
     Raises ``ValueError`` naming a malformed item or a name the constructor does not take.
     """
-    known = [n for n in inspect.signature(recognizer_class(algo).__init__).parameters
-             if n not in ("self", "features")]
     params = literal_params(items)
-    for name in params:
-        if name not in known:
-            raise ValueError(f"{algo} has no parameter {name!r}; it takes {known}")
+    check_params(algo, params)
     return params
 
 

@@ -2,7 +2,9 @@
 
 from __future__ import annotations
 
+import inspect
 import time
+from collections.abc import Iterable
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -34,6 +36,16 @@ def recognizer_class(algo: str) -> type:
     if cls is None:
         raise ValueError(f"unknown algorithm {algo!r}; choose one of {ALGORITHMS}")
     return cls
+
+
+def check_params(algo: str, names: Iterable[str]) -> None:
+    """A ``ValueError`` naming the first of ``names`` that ``algo``'s constructor does not take
+    (``features`` is not a parameter: every recognizer is given it separately)."""
+    known = [n for n in inspect.signature(recognizer_class(algo).__init__).parameters
+             if n not in ("self", "features")]
+    for name in names:
+        if name not in known:
+            raise ValueError(f"{algo} has no parameter {name!r}; it takes {known}")
 
 
 def make(algo: str, features: str = "sift", **params: object) -> object:
