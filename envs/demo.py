@@ -5,12 +5,13 @@
 - ``tour.npz``: the recorded frames with ground truth;
 - ``floorplan.png``: rooms, names, doors, furniture and the path;
 - ``map.png``: the path coloured by the place the online recognizer (seed 000) reported, and
-  its topological graph between the places' centroids; ``map_sides.png``: the same for the
-  online recognizer looking only to the robot's sides (:data:`SIDE_VIEW`);
+  its topological graph between the places' centroids; ``map_panorama.png``: the same for the
+  online recognizer with the settings for 360° panoramas (``placeclust.PANORAMA``: side views
+  and the scene-change gate);
 - ``confusion.png``: frames per place and ground-truth room;
 - ``tour.gif``: the panoramas over time with the current place and room written on them;
 - ``panoramas.png``: a panorama from every room;
-- ``report.md``: metrics of the online recognizer (whole panorama and side views) and the
+- ``report.md``: metrics of the online recognizer (as in the paper and with ``PANORAMA``) and the
   nested mapper (seed 001) against ground truth, also printed on the terminal.
 """
 
@@ -27,12 +28,7 @@ from envs.figures import save_confusion, save_panoramas, save_place_map, save_to
 from envs.floorplan import save_floor_plan
 from envs.layout import FloorPlan
 from envs.tour import Tour, drive_tour
-
-#: The online recognizer on the panorama's sides (``placeclust.features.VIEWS``): half the
-#: features per frame, so kernels hold half as many (~2.4 frames' worth, as 1200 for 500), and
-#: the thresholds that gave the fewest places without losing precision (README, "Side views").
-SIDE_VIEW = {"view": "sides", "kernel_capacity": 600, "t_new_cluster": 0.9,
-             "t_update_cluster": 0.5}
+from placeclust import PANORAMA
 
 
 def record_tour(scene_seed: int, n_rooms: int, steps: int, seed: int = 0, width: int = 512,
@@ -70,7 +66,7 @@ def run_demo(out: str, scene_seed: int = 0, n_rooms: int = 4, steps: int = 1000,
     table, results = {}, {}
     for name, algo, label, params in (
             ("online", "online", "online (seed 000)", {}),
-            ("online_sides", "online", "online, side views", SIDE_VIEW),
+            ("online_panorama", "online", "online, PANORAMA settings", PANORAMA),
             ("nested", "nested", "nested (seed 001)", {})):
         results[name] = run(algo, tour.frames, "sift", progress=True, **params)
         table[label] = evaluate(results[name], tour.room)
@@ -78,9 +74,10 @@ def run_demo(out: str, scene_seed: int = 0, n_rooms: int = 4, steps: int = 1000,
     online = results["online"].assignments
     save_place_map(plan, tour.pose, online, str(folder / "map.png"),
                    "places found online (seed 000) and their graph", results["online"].model.graph)
-    save_place_map(plan, tour.pose, results["online_sides"].assignments,
-                   str(folder / "map_sides.png"), "places found online, side views",
-                   results["online_sides"].model.graph)
+    save_place_map(plan, tour.pose, results["online_panorama"].assignments,
+                   str(folder / "map_panorama.png"),
+                   "places found online, side views and scene changes",
+                   results["online_panorama"].model.graph)
     save_confusion(online, tour.room, tour.room_names, str(folder / "confusion.png"),
                    "online (seed 000): frames per place and room")
     save_tour_gif(tour, online, str(folder / "tour.gif"))
@@ -89,8 +86,9 @@ def run_demo(out: str, scene_seed: int = 0, n_rooms: int = 4, steps: int = 1000,
         f"# placeclust demo\n\nScene seed {scene_seed}, {n_rooms} rooms, {steps} frames of "
         f"512x128 panoramas, SIFT features, tour seed {seed}.\n\n{text}\n\n"
         "precision: clustering precision (purity) as in seed 000 Fig. 2; recall: inverse "
-        "purity; ms_per_frame: median latency. Side views: only the features within 45 degrees "
-        "of the robot's left and right (map_sides.png).\n")
+        "purity; ms_per_frame: median latency. PANORAMA settings: only the features within 45 "
+        "degrees of the robot's left and right, and new places only after a scene change "
+        "(map_panorama.png).\n")
     (folder / "metrics.json").write_text(json.dumps(table, indent=2))
     print(text)
     print(f"\nreport written to {folder}/")

@@ -9,7 +9,7 @@ from placeclust.allocator import keep_frame_buffers
 # before any frame is processed: per-frame buffers stay in the heap (see placeclust.allocator)
 keep_frame_buffers()
 
-from placeclust.online import UNKNOWN, OnlinePlaceClustering  # noqa: E402
+from placeclust.online import PANORAMA, UNKNOWN, OnlinePlaceClustering  # noqa: E402
 
-__all__ = ["UNKNOWN", "OnlinePlaceClustering"]
-__version__ = "0.6.0"
+__all__ = ["PANORAMA", "UNKNOWN", "OnlinePlaceClustering"]
+__version__ = "0.7.0"

@@ -122,8 +122,14 @@ class FeatureExtractor:
         self.__init__(**state)
 
     def extract(self, gray: np.ndarray) -> Features:
-        """Features of a 2-D uint8 image (see :func:`placeclust.frames.to_gray`); keypoint
-        coordinates are in ``gray``'s pixels whatever ``scale``."""
+        """Features of a 2-D uint8 image (see :func:`placeclust.frames.to_gray`) in this
+        extractor's ``view``; keypoint coordinates are in ``gray``'s pixels whatever ``scale``."""
+        return self.extract_pair(gray)[0]
+
+    def extract_pair(self, gray: np.ndarray) -> tuple[Features, Features]:
+        """``(view, whole)``: the features of :meth:`extract` and those of the whole frame
+        they were selected from (the same object when ``view="full"``), at the cost of one
+        detection."""
         width = gray.shape[1]
         if self.scale != 1.0:
             h, w = gray.shape
@@ -135,8 +141,8 @@ class FeatureExtractor:
             xy = (feats.xy + np.float32(0.5)) / np.float32(self.scale) - np.float32(0.5)
             feats = Features(xy, feats.descriptors, feats.binary)
         if self.view == "sides" and len(feats):
-            feats = _sides(feats, width)
-        return feats
+            return _sides(feats, width), feats
+        return feats, feats
 
     def _detect(self, gray: np.ndarray) -> Features:
         if self.normalize == "equalize":

@@ -26,7 +26,8 @@ FORMAT = "placeclust-map"
 # 2: the parameters include ``normalize``; version-1 maps were made from raw frames
 # 3: the parameters include ``scale``; older maps were made from full-size frames
 # 4: the parameters include ``view``; older maps hold features of the whole frame
-VERSION = 4
+# 5: the parameters include ``scene_change``; older maps opened places without a gate
+VERSION = 5
 
 
 def save_map(model: OnlinePlaceClustering, path: str | os.PathLike, world: str = "") -> Path:
@@ -113,6 +114,8 @@ def load_map(path: str | os.PathLike, world: str | None = None) -> OnlinePlaceCl
             params.setdefault("scale", 1.0)  # ... and of full-size frames
         if meta["version"] < 4:
             params.setdefault("view", "full")  # ... and of the whole frame
+        if meta["version"] < 5:
+            params.setdefault("scene_change", None)  # ... and opened places without a gate
         model = OnlinePlaceClustering(**params)
         model.restore(
             kernels={p: (arrays[f"k{p}_desc"], arrays[f"k{p}_w"], arrays[f"k{p}_seen"],

@@ -14,8 +14,15 @@ from placeclust.index import PlaceIndex
 from placeclust.kernel import UnionKernel
 from placeclust.mapfile import load_map, save_map
 from placeclust.matching import dice_eq4, normalize
+from placeclust.scene_change import SceneChangeGate
 
 UNKNOWN = -1
+
+#: Settings for 360° panoramas with the heading at the centre column (``envs.panorama``): side
+#: views, kernels of half the size for half the features, and the scene-change gate. The
+#: thresholds stay the defaults. ``OnlinePlaceClustering(**PANORAMA)``; on the CLI,
+#: ``--param view=sides --param kernel_capacity=600 --param scene_change=0.25``.
+PANORAMA: dict[str, object] = {"view": "sides", "kernel_capacity": 600, "scene_change": 0.25}
 
 
 class OnlinePlaceClustering:
@@ -40,6 +47,19 @@ class OnlinePlaceClustering:
     places with most votes are checked with Eq. 4); if one is within ``t_new_cluster`` the
     robot is placed there and an edge closes the loop. ``relocalize=False`` gives the paper's
     neighbour-only search.
+
+    With ``scene_change`` set, a place opens only near a scene change
+    (:class:`~placeclust.scene_change.SceneChangeGate`, the online form of the scene-change
+    detection of Sec. III.C step 1): a frame beyond ``t_new_cluster`` of every place within
+    ``scene_window`` frames after a scene change opens a new place as in step 6; any other
+    frame beyond it stays in the current place, whose kernel absorbs it as in step 7. A kernel
+    is a bounded union of the oldest heaviest features, so driving through a room leaves it
+    behind every metre or so; without the gate each time opens a place, with it only a doorway
+    does. A first frame, or the first after :meth:`reset_position`, opens a place anyway. The
+    places are whole rooms, but their kernels still hold what was seen first: mapping by day
+    and localizing the same route under another condition (:meth:`localize_one`), precision
+    fell from 0.93-0.94 (side views without the gate) to 0.81-0.85 with it (``README``,
+    "Scene changes"): for a map that must serve under other conditions, leave the gate off.
 
     Frames with fewer than ``min_features`` features (a black image, a blank wall) are
     featureless: they are reported as :data:`UNKNOWN` (-1) and change nothing.
@@ -86,6 +106,15 @@ class OnlinePlaceClustering:
             ``t_new_cluster=0.9, t_update_cluster=0.5`` as well, at 3.3 and 2.5 places per
             room against 2.4
             (``README``, "Side views"). Saved maps record it.
+        scene_change: similarity threshold of the scene-change gate (see above), or ``None``
+            for the paper's behaviour, a new place whenever no place is within
+            ``t_new_cluster``. With ``view="sides", kernel_capacity=600`` and 0.25
+            (:data:`PANORAMA`), 16 simulated tours gave precision 0.98, NMI 0.865 and 1.4
+            places per room, against 0.96, 0.70 and 3.3 without the gate (``README``, "Scene
+            changes").
+        scene_lag: frames between the two frames the gate compares (10 frames are 40 cm of the
+            simulator's scripted tours).
+        scene_window: frames after a scene change during which a place may open.
 
     Example:
         >>> import numpy as np
@@ -114,6 +143,9 @@ class OnlinePlaceClustering:
         normalize: str | None = "clahe",
         scale: float = 1.0,
         view: str = "full",
+        scene_change: float | None = None,
+        scene_lag: int = 10,
+        scene_window: int = 10,
     ) -> None:
         if not 0.0 <= t_update_cluster < t_new_cluster < 1.0:
             raise ValueError(
@@ -136,7 +168,12 @@ class OnlinePlaceClustering:
         self.normalize = normalize
         self.scale = scale
         self.view = view
+        self.scene_change = scene_change
+        self.scene_lag = scene_lag
+        self.scene_window = scene_window
         self._extractor = FeatureExtractor(features, max_features, normalize, scale, view)
+        self._gate = None if scene_change is None else SceneChangeGate(
+            scene_change, scene_lag, scene_window, self._extractor.binary, ratio)
         self.kernels: dict[int, UnionKernel] = {}
         self.graph = nx.Graph()
         self.current: int = UNKNOWN
@@ -159,7 +196,7 @@ class OnlinePlaceClustering:
 
     def learn_predict_one(self, frame: np.ndarray) -> int:
         """Learn from ``frame`` and return its place id (step 9), or :data:`UNKNOWN`."""
-        desc = self._describe(frame)
+        desc = self._describe(frame, learn=True)
         if desc is None:
             return UNKNOWN
         if not self.kernels:
@@ -168,12 +205,14 @@ class OnlinePlaceClustering:
         if distance > self.t_new_cluster:
             if self.map_full:
                 return self._localized(place, distance)
-            return self._new_place(desc)
+            if self._gate is None or self._gate.is_open or self.current == UNKNOWN:
+                return self._new_place(desc)
+            # no scene change: the robot is still in its place, which absorbs the frame (step 7)
+            return self._absorb(self.current, desc, self.kernels[self.current].match(desc))
         if place != self.current and self.current != UNKNOWN:
             self.graph.add_edge(self.current, place)  # a loop closure when they were not adjacent
         if distance > self.t_update_cluster:
-            self.kernels[place].update(desc, matches)
-            self.graph.nodes[place]["n_images"] += 1
+            return self._absorb(place, desc, matches)
         self.current = place
         return place
 
@@ -193,8 +232,10 @@ class OnlinePlaceClustering:
     def reset_position(self) -> None:
         """Forget where the robot is (it was carried elsewhere): the next frame is searched in
         the whole map (through the index shortlist) instead of the current place's
-        neighbourhood. The map is kept."""
+        neighbourhood, and the scene-change gate forgets the frames before. The map is kept."""
         self.current = UNKNOWN
+        if self._gate is not None:
+            self._gate.reset()
 
     @property
     def n_places(self) -> int:
@@ -247,13 +288,19 @@ class OnlinePlaceClustering:
 
     # -- internals ------------------------------------------------------------------------------
 
-    def _describe(self, frame: np.ndarray) -> np.ndarray | None:
+    def _describe(self, frame: np.ndarray, learn: bool = False) -> np.ndarray | None:
+        """The frame's (normalised) descriptors, or ``None`` if it is featureless; ``learn``
+        feeds the scene-change gate, which only frames that may change the map should do."""
         gray = to_gray(frame)
         self.frame_shape = check_size(gray, self.frame_shape)
-        feats = self._extractor.extract(gray)
+        feats, whole = self._extractor.extract_pair(gray)
         if len(feats) < self.min_features:
             return None
-        return normalize(feats.descriptors, feats.binary)
+        desc = normalize(feats.descriptors, feats.binary)
+        if learn and self._gate is not None:
+            self._gate.update(desc, desc if whole is feats else
+                              normalize(whole.descriptors, whole.binary))
+        return desc
 
     def _distance(self, place: int, desc: np.ndarray) -> tuple[float, tuple]:
         kernel = self.kernels[place]
@@ -289,6 +336,13 @@ class OnlinePlaceClustering:
         """Place the robot at ``place`` if within ``t_localize``, else report UNKNOWN."""
         if distance > self.t_localize:
             return UNKNOWN
+        self.current = place
+        return place
+
+    def _absorb(self, place: int, desc: np.ndarray, matches: tuple) -> int:
+        """Union_Of_Cluster (step 7): ``place``'s kernel takes the frame; the robot is there."""
+        self.kernels[place].update(desc, matches)
+        self.graph.nodes[place]["n_images"] += 1
         self.current = place
         return place
 

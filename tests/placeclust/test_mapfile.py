@@ -77,6 +77,7 @@ def test_version_1_maps_keep_reading_raw_frames(mapped, tmp_path):
 @pytest.mark.parametrize("name, value, version, before", [
     ("scale", 0.75, 2, 1.0),  # maps before ``scale`` were made from full-size frames
     ("view", "sides", 3, "full"),  # maps before ``view`` hold features of the whole frame
+    ("scene_change", 0.25, 4, None),  # maps before the gate opened places without one
 ])
 def test_older_maps_load_as_they_were_made_and_new_parameters_round_trip(
         frames, tmp_path, name, value, version, before):

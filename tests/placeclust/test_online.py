@@ -148,3 +148,23 @@ def test_side_view_ignores_what_lies_ahead_and_behind():
                                       t_update_cluster=0.1)
         places[view] = [model.learn_predict_one(f) for f in (first, second)]
     assert places == {"sides": [0, 0], "full": [0, 1]}
+
+
+def _pan(seed: int, n: int, step: int) -> list[np.ndarray]:
+    """``n`` 512-wide crops of a wide texture, each ``step`` px further: slow, steady drift."""
+    wide = textured(seed, shape=(128, 512 + n * step))
+    return [np.ascontiguousarray(wide[:, k * step: k * step + 512]) for k in range(n)]
+
+
+def test_the_scene_change_gate_keeps_a_drifting_view_in_one_place():
+    """A slow pan leaves a small kernel behind: without the gate it opens places along the way,
+    with it the pan stays one place and only a sudden change (a doorway) opens another."""
+    frames = _pan(5, 60, 16) + [textured(6)] * 5
+    places = {}
+    for gate in (None, 0.25):
+        model = OnlinePlaceClustering(kernel_capacity=300, scene_change=gate, scene_lag=3)
+        places[gate] = [model.learn_predict_one(f) for f in frames]
+    assert max(places[None][:60]) >= 1  # the ungated map split the pan
+    assert places[0.25] == [0] * 60 + [1] * 5
+    with pytest.raises(ValueError, match="threshold"):
+        OnlinePlaceClustering(scene_change=1.0)
