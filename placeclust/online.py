@@ -4,6 +4,8 @@ from __future__ import annotations
 
 import inspect
 import os
+from collections.abc import Mapping
+from types import MappingProxyType
 
 import networkx as nx
 import numpy as np
@@ -21,8 +23,10 @@ UNKNOWN = -1
 #: Settings for 360° panoramas with the heading at the centre column (``envs.panorama``): side
 #: views, kernels of half the size for half the features, and the scene-change gate. The
 #: thresholds stay the defaults. ``OnlinePlaceClustering(**PANORAMA)``; on the CLI,
-#: ``--param view=sides --param kernel_capacity=600 --param scene_change=0.25``.
-PANORAMA: dict[str, object] = {"view": "sides", "kernel_capacity": 600, "scene_change": 0.25}
+#: ``--param view=sides --param kernel_capacity=600 --param scene_change=0.25``. Read-only, so
+#: that one caller's change cannot leak into another's recognizer.
+PANORAMA: Mapping[str, object] = MappingProxyType(
+    {"view": "sides", "kernel_capacity": 600, "scene_change": 0.25})
 
 
 class OnlinePlaceClustering:
@@ -55,7 +59,9 @@ class OnlinePlaceClustering:
     frame beyond it stays in the current place, whose kernel absorbs it as in step 7. A kernel
     is a bounded union of the oldest heaviest features, so driving through a room leaves it
     behind every metre or so; without the gate each time opens a place, with it only a doorway
-    does. A first frame, or the first after :meth:`reset_position`, opens a place anyway. The
+    does. A first frame, or the first after :meth:`reset_position`, opens a place anyway. Map
+    files do not keep the gate's recent frames: after :meth:`load` it stays closed for
+    ``scene_lag`` frames, so learning resumes in the saved place. The
     places are whole rooms, but their kernels still hold what was seen first: mapping by day
     and localizing the same route under another condition (:meth:`localize_one`), precision
     fell from 0.93-0.94 (side views without the gate) to 0.81-0.85 with it (``README``,
