@@ -6,7 +6,7 @@ import pytest
 
 from placeclust.index import PlaceIndex
 
-N_PLACES, PER_PLACE = 30, 64  # 24 places go into the FLANN part (max_tail), 6 stay in the tail
+N_PLACES, PER_PLACE = 30, 64  # FLANN takes the first 24 places (exact_below); 6 stay in the tail
 
 
 def place_samples(binary: bool) -> list[np.ndarray]:
@@ -40,10 +40,21 @@ def test_votes_name_the_place_seen_again_in_the_tree_and_in_the_tail(binary):
     index = PlaceIndex(binary, lambda p: samples[p])
     for p in range(N_PLACES):
         index.add(p)
-    assert index.n_rebuilds == 1 and len(index._tail) == N_PLACES - index.max_tail
+    assert index.n_rebuilds == 1 and len(index._tail) == N_PLACES - index.exact_below == 6
     rng = np.random.default_rng(1)
     for place in (0, 11, 23, 24, 29):  # indexed by FLANN (0-23) and by brute force (24-29)
         assert_clear_winner(index.votes(seen_again(samples[place], binary, rng)), place)
+
+
+def test_small_maps_are_searched_exactly_and_large_ones_keep_a_short_tail():
+    samples = place_samples(binary=False)
+    index = PlaceIndex(False, lambda p: samples[p], max_tail=2, exact_below=5)
+    tails = []
+    for p in range(10):
+        index.add(p)
+        tails.append(len(index._tail))
+    # all tail until 5 places, then FLANN takes the tail whenever it holds 2
+    assert tails == [1, 2, 3, 4, 0, 1, 0, 1, 0, 1] and index.n_rebuilds == 3
 
 
 def test_a_copied_index_rebuilds_flann_and_votes_alike():
@@ -94,3 +105,22 @@ def test_the_index_does_not_depend_on_what_the_process_drew_before(binary):
         return cv2.randu(np.zeros((4, 1), np.float32), 0, 1)
 
     np.testing.assert_array_equal(stream(), stream())
+
+
+@pytest.mark.parametrize("binary", [False, True], ids=["euclidean", "hamming"])
+def test_a_query_split_over_threads_votes_as_one_search(binary):
+    samples = place_samples(binary)
+    index = PlaceIndex(binary, lambda p: samples[p])
+    for p in range(N_PLACES):
+        index.add(p)
+    rng = np.random.default_rng(3)
+    query = np.concatenate([seen_again(samples[p], binary, rng) for p in (2, 7, 9, 13)])
+    threads = cv2.getNumThreads()
+    try:
+        cv2.setNumThreads(1)
+        alone = index.votes(query)
+        cv2.setNumThreads(4)  # 256 features: four parts of 64
+        split = index.votes(query)
+    finally:
+        cv2.setNumThreads(threads)
+    assert split == alone and sum(alone.values()) == len(query)

@@ -40,6 +40,20 @@ def test_revisiting_a_non_neighbour_closes_a_loop(two_places):
     assert OnlinePlaceClustering(relocalize=False).relocalize is False
 
 
+def test_a_recognised_frame_is_matched_with_its_place_alone(two_places):
+    # tracking must not get slower as the current place gains neighbours (loop closures)
+    frames, _ = two_places
+    model = OnlinePlaceClustering(features="orb")
+    for f in (frames[0], textured(3), frames[1], textured(4), frames[2], textured(5), frames[3]):
+        model.learn_one(f)
+    assert model.current == 0 and model.graph.degree(0) == 3
+    compared = []
+    model._distance = lambda place, desc, own=model._distance: compared.append(place) or own(
+        place, desc)
+    assert model.learn_predict_one(frames[0]) == 0
+    assert compared == [0]
+
+
 def test_a_full_map_stops_growing_and_still_recognises(two_places):
     frames, _ = two_places
     model = OnlinePlaceClustering(features="orb", max_places=2)
@@ -160,11 +174,17 @@ def test_the_scene_change_gate_keeps_a_drifting_view_in_one_place():
     """A slow pan leaves a small kernel behind: without the gate it opens places along the way,
     with it the pan stays one place and only a sudden change (a doorway) opens another."""
     frames = _pan(5, 60, 16) + [textured(6)] * 5
-    places = {}
+    places, searches = {}, {}
     for gate in (None, 0.25):
         model = OnlinePlaceClustering(kernel_capacity=300, scene_change=gate, scene_lag=3)
+        searched = []
+        model._index.votes = lambda desc, m=model, own=model._index.votes, log=searched: (
+            log.append(m._gate is not None and m._gate.is_open) or own(desc))
         places[gate] = [model.learn_predict_one(f) for f in frames]
+        searches[gate] = searched
     assert max(places[None][:60]) >= 1  # the ungated map split the pan
     assert places[0.25] == [0] * 60 + [1] * 5
+    # with the gate closed the robot is still in its room: the map is not searched
+    assert len(searches[None]) > 0 and all(searches[0.25])
     with pytest.raises(ValueError, match="threshold"):
         OnlinePlaceClustering(scene_change=1.0)

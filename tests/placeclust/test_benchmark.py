@@ -1,0 +1,35 @@
+import numpy as np
+import pytest
+
+from placeclust.benchmark import _median_ms, best_of_sweeps, main
+from placeclust.online import OnlinePlaceClustering
+from placeclust.synthetic import jitter, textured
+
+
+def test_a_loop_closure_probe_leaves_the_graph_and_place_as_they_were():
+    model = OnlinePlaceClustering(features="orb")
+    for seed in (1, 2, 3):
+        model.learn_one(textured(seed))
+    edges, current = set(model.graph.edges), model.current
+    revisit = jitter(textured(1), np.random.default_rng(0))
+    _median_ms(model, [revisit], from_here=True)
+    assert set(model.graph.edges) == edges and model.current == current
+    _median_ms(model, [revisit])  # a plain probe closes the loop, as learning does
+    assert model.graph.has_edge(2, 0) and model.current == 0
+
+
+def test_best_of_sweeps_gives_the_lowest_and_highest_median_per_size():
+    rows = best_of_sweeps("orb", [3, 5], repeats=2)
+    assert [r["places"] for r in rows] == [3, 5]
+    for r in rows:
+        assert 0 < r["track_ms"] <= r["track_ms_max"] and 0 < r["loop_ms"] <= r["loop_ms_max"]
+    with pytest.raises(ValueError, match="repeats"):
+        best_of_sweeps("orb", [3], repeats=0)
+
+
+def test_the_command_prints_a_table_with_the_growth_ratio(capsys):
+    assert main(["latency", "--features", "orb", "--sizes", "2", "4", "--repeats", "1"]) == 0
+    out = capsys.readouterr().out
+    assert "| orb | 4 |" in out and "| orb | 4 / 2 |" in out
+    with pytest.raises(SystemExit):
+        main(["latency", "--sizes", "1"])
