@@ -68,16 +68,17 @@ class OnlinePlaceClustering:
     is a bounded union of the oldest heaviest features, so driving through a room leaves it
     behind every metre or so; without the gate each time opens a place, with it only a doorway
     does. While the gate is closed the robot has not left its room, so a frame that no
-    neighbour matches is not searched for in the whole map either: on a 12-room tour of 8,000
-    frames 37% of the frames had been searched for, 47 are now; precision rose from 0.943 to
-    0.953 and the median frame took 14.5 instead of 16.1 ms (SIFT). A first frame, or the
+    neighbour matches is not searched for in the whole map either (a full map localizes it
+    among the neighbours, see ``max_places``): on a 12-room tour of 8,000 frames 37% of the
+    frames had been searched for, 47 are now; precision rose from 0.943 to 0.953 and the
+    median frame took 14.5 instead of 16.1 ms (SIFT). A first frame, or the
     first after :meth:`reset_position`, opens a place anyway. Map files do not keep the gate's
     recent frames: after :meth:`load` it stays closed for ``scene_lag`` frames, so learning
     resumes in the saved place. The places are whole rooms, but their kernels still hold what
     was seen first: mapping by day and localizing the same route under another condition
     (:meth:`localize_one`), precision fell from 0.93-0.94 (side views without the gate) to
-    0.81-0.85 with it (``README``,
-    "Scene changes"): for a map that must serve under other conditions, leave the gate off.
+    0.81-0.85 with it (placeclust 0.7.0, ``README``, "Scene changes"): for a map that must
+    serve under other conditions, leave the gate off.
 
     Frames with fewer than ``min_features`` features (a black image, a blank wall) are
     featureless: they are reported as :data:`UNKNOWN` (-1) and change nothing.
