@@ -17,6 +17,14 @@ def place_samples(binary: bool) -> list[np.ndarray]:
     return list(x / np.linalg.norm(x, axis=2, keepdims=True))
 
 
+def filled_index(samples: list[np.ndarray], binary: bool) -> PlaceIndex:
+    """A default index holding every place of ``samples``."""
+    index = PlaceIndex(binary, lambda p: samples[p])
+    for p in range(len(samples)):
+        index.add(p)
+    return index
+
+
 def seen_again(sample: np.ndarray, binary: bool, rng: np.random.Generator) -> np.ndarray:
     """``sample`` observed again: a few bits flipped, or a little Gaussian noise."""
     if binary:
@@ -37,9 +45,7 @@ def assert_clear_winner(votes: dict[int, int], place: int) -> None:
 @pytest.mark.parametrize("binary", [True, False], ids=["hamming", "euclidean"])
 def test_votes_name_the_place_seen_again_in_the_tree_and_in_the_tail(binary):
     samples = place_samples(binary)
-    index = PlaceIndex(binary, lambda p: samples[p])
-    for p in range(N_PLACES):
-        index.add(p)
+    index = filled_index(samples, binary)
     assert index.n_rebuilds == 1 and len(index._tail) == N_PLACES - index.exact_below == 6
     rng = np.random.default_rng(1)
     for place in (0, 11, 23, 24, 29):  # indexed by FLANN (0-23) and by brute force (24-29)
@@ -59,9 +65,7 @@ def test_small_maps_are_searched_exactly_and_large_ones_keep_a_short_tail():
 
 def test_a_copied_index_rebuilds_flann_and_votes_alike():
     samples = place_samples(binary=True)
-    index = PlaceIndex(True, lambda p: samples[p])
-    for p in range(N_PLACES):
-        index.add(p)
+    index = filled_index(samples, True)
     query = seen_again(samples[5], True, np.random.default_rng(2))
     clone = copy.deepcopy(index)  # FLANN indexes cannot be pickled: rebuilt on first query
     assert clone._flann is None
@@ -110,9 +114,7 @@ def test_the_index_does_not_depend_on_what_the_process_drew_before(binary):
 @pytest.mark.parametrize("binary", [False, True], ids=["euclidean", "hamming"])
 def test_a_query_split_over_threads_votes_as_one_search(binary):
     samples = place_samples(binary)
-    index = PlaceIndex(binary, lambda p: samples[p])
-    for p in range(N_PLACES):
-        index.add(p)
+    index = filled_index(samples, binary)
     rng = np.random.default_rng(3)
     query = np.concatenate([seen_again(samples[p], binary, rng) for p in (2, 7, 9, 13)])
     threads = cv2.getNumThreads()
