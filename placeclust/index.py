@@ -9,34 +9,24 @@ costs one FLANN search plus a bounded brute-force one, whatever the map size. A 
 votes: for each image feature, the place owning its nearest indexed feature.
 
 FLANN searches one query feature after another, so the features are split over OpenCV's
-threads (``cv2.getNumThreads()``, the count its SIFT and ORB use; ``cv2.setNumThreads(1)``
-keeps the index on one core too). On the 2-core machine of the README a query of a 500-place
+threads (:func:`placeclust.threads.split_rows`; ``cv2.setNumThreads(1)`` keeps the index on one
+core too). On the 2-core machine of the README a query of a 500-place
 map took 4.7 against 2.4 ms (SIFT) and 2.9 against 1.8 ms (ORB), with the same answers.
 """
 
 from __future__ import annotations
 
-import os
 from collections.abc import Callable
-from concurrent.futures import ThreadPoolExecutor
 
 import cv2
 import numpy as np
 
 from placeclust.matching import knn2
+from placeclust.threads import split_rows
 
 _KDTREE, _HIERARCHICAL = 1, 5  # cvflann::flann_algorithm_t
 _HAMMING = 9  # cvflann::FLANN_DIST_HAMMING; OpenCV's Python bindings do not name it
 _MIN_SPLIT = 64  # query features per thread below which a split costs more than it saves
-_pool: tuple[int, ThreadPoolExecutor] | None = None  # (pid, pool): a forked child makes its own
-
-
-def _threads() -> ThreadPoolExecutor:
-    global _pool
-    if _pool is None or _pool[0] != os.getpid():
-        _pool = (os.getpid(), ThreadPoolExecutor(max(1, (os.cpu_count() or 2) - 1),
-                                                 thread_name_prefix="placeclust-index"))
-    return _pool[1]
 
 
 class PlaceIndex:
@@ -139,14 +129,9 @@ class PlaceIndex:
 
     def _search(self, descriptors: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """FLANN's nearest indexed feature of each descriptor, the work split over threads."""
-        parts = min(cv2.getNumThreads(), len(descriptors) // _MIN_SPLIT)
-        if parts <= 1:
-            return self._flann.knnSearch(descriptors, 1, params=dict(checks=self.checks))
-        chunks = np.array_split(descriptors, parts)
-        later = [_threads().submit(self._flann.knnSearch, c, 1, params=dict(checks=self.checks))
-                 for c in chunks[1:]]
-        found = [self._flann.knnSearch(chunks[0], 1, params=dict(checks=self.checks))]
-        found += [f.result() for f in later]
+        found = split_rows(
+            lambda rows: self._flann.knnSearch(rows, 1, params=dict(checks=self.checks)),
+            descriptors, _MIN_SPLIT)
         return (np.concatenate([idx for idx, _ in found]),
                 np.concatenate([dist for _, dist in found]))
 

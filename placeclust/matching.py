@@ -12,11 +12,20 @@ import cv2
 import numpy as np
 from threadpoolctl import ThreadpoolController
 
-# The matching GEMM runs on one BLAS thread. It is small (hundreds of rows), and OpenBLAS's
-# other threads keep spinning after each call: on 2 cores they slowed OpenCV's SIFT in the same
-# process (``make demo``: 20.0 ms per frame with them, 15.5 ms without, the same places). The
-# limit holds only during the call; the process's own BLAS settings are left alone.
+from placeclust.threads import split_rows
+
+# The matching GEMMs run on one BLAS thread each (split over OpenCV's threads by the caller
+# instead, see below). OpenBLAS's own threads keep spinning after each call: on 2 cores they
+# slowed OpenCV's SIFT in the same process (``make demo``: 20.0 ms per frame with them, 15.5 ms
+# without, the same places). The limit is taken in the calling thread, around the split (the
+# worker threads follow it: OpenBLAS ignored a limit set in a worker once the main thread had
+# set one), and holds only during the call; the process's own BLAS settings are left alone.
 _BLAS = ThreadpoolController()
+
+# Query rows per thread below which splitting a float match costs more than it saves: on the
+# README's 2-core machine, 500 SIFT features against a 1,200-feature kernel took 1.07 instead
+# of 1.57 ms split in two, 128 against 1,200 gained nothing.
+_MIN_SPLIT = 128
 
 
 def normalize(desc: np.ndarray, binary: bool) -> np.ndarray:
@@ -46,23 +55,31 @@ def knn2(query: np.ndarray, train: np.ndarray, binary: bool) -> tuple[np.ndarray
         dist = dist.astype(np.float32) / (8 * query.shape[1])
         idx = idx.astype(np.int64)
     else:
-        # |q - t|^2 = |q|^2 + |t|^2 - 2 q.t with unit rows: one GEMM, the fastest route here.
-        # The two nearest are the two largest dot products: two argmax passes (the first one
-        # masked out) cost a third of an argpartition over the whole matrix.
         with _BLAS.limit(limits=1, user_api="blas"):
-            sim = query @ train.T
-        rows = np.arange(n)
-        first = sim.argmax(axis=1)
-        best = sim[rows, first]
-        if not single:  # a single row's second column is set to (inf, -1) below
-            sim[rows, first] = -np.inf
-        second = sim.argmax(axis=1)
-        idx = np.stack([first, second], axis=1).astype(np.int64)
-        dot = np.stack([best, sim[rows, second]], axis=1)
+            found = split_rows(lambda rows: _top2_dot(rows, train, single), query, _MIN_SPLIT)
+        idx = np.concatenate([i for i, _ in found])
+        dot = np.concatenate([d for _, d in found])
         dist = np.sqrt(np.maximum(2.0 - 2.0 * dot, 0.0)).astype(np.float32)
     if single:
         dist[:, 1], idx[:, 1] = np.inf, -1
     return dist, idx
+
+
+def _top2_dot(query: np.ndarray, train: np.ndarray, single: bool
+              ) -> tuple[np.ndarray, np.ndarray]:
+    """Indices and dot products of the two largest ``query @ train.T`` entries of each row."""
+    # |q - t|^2 = |q|^2 + |t|^2 - 2 q.t with unit rows: one GEMM, the fastest route here.
+    # The two nearest are the two largest dot products: two argmax passes (the first one
+    # masked out) cost a third of an argpartition over the whole matrix.
+    sim = query @ train.T
+    rows = np.arange(len(query))
+    first = sim.argmax(axis=1)
+    best = sim[rows, first]
+    if not single:  # a single row's second column is set to (inf, -1) by the caller
+        sim[rows, first] = -np.inf
+    second = sim.argmax(axis=1)
+    return (np.stack([first, second], axis=1).astype(np.int64),
+            np.stack([best, sim[rows, second]], axis=1))
 
 
 #: (max_distance, sure_distance) per descriptor kind. Unit float vectors of unrelated features

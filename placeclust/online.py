@@ -6,6 +6,7 @@ import inspect
 import os
 from collections.abc import Mapping
 from types import MappingProxyType
+from typing import NamedTuple
 
 import networkx as nx
 import numpy as np
@@ -19,6 +20,17 @@ from placeclust.matching import dice_eq4, normalize
 from placeclust.scene_change import SceneChangeGate
 
 UNKNOWN = -1
+
+
+class _Compared(NamedTuple):
+    """One place compared with a frame: Eq. 4 as a distance, and the correspondences."""
+
+    place: int
+    distance: float
+    matches: tuple[np.ndarray, np.ndarray]
+
+
+_NONE = _Compared(UNKNOWN, np.inf, (np.zeros(0, np.int64), np.zeros(0, np.int64)))
 
 #: Settings for 360° panoramas with the heading at the centre column (``envs.panorama``): side
 #: views, kernels of half the size for half the features, and the scene-change gate. The
@@ -210,8 +222,8 @@ class OnlinePlaceClustering:
         desc = self._describe(frame)
         if desc is None or not self.kernels:
             return UNKNOWN
-        place, distance, _ = self._nearest(desc)
-        return place if distance <= self.t_new_cluster else UNKNOWN
+        best, _ = self._nearest(desc)
+        return best.place if best.distance <= self.t_new_cluster else UNKNOWN
 
     def learn_predict_one(self, frame: np.ndarray) -> int:
         """Learn from ``frame`` and return its place id (step 9), or :data:`UNKNOWN`."""
@@ -222,20 +234,21 @@ class OnlinePlaceClustering:
             return self._new_place(desc)
         # a closed gate means the robot has not left its place's room: no search of the map
         in_room = self._gate is not None and not self._gate.is_open
-        place, distance, matches = self._nearest(desc, whole_map=not in_room)
-        if distance > self.t_new_cluster:
+        best, here = self._nearest(desc, whole_map=not in_room)
+        if best.distance > self.t_new_cluster:
             if self.map_full:
-                return self._localized(place, distance)
-            if self._gate is None or self._gate.is_open or self.current == UNKNOWN:
+                return self._localized(best.place, best.distance)
+            if self._gate is None or self._gate.is_open or here is None:
                 return self._new_place(desc)
             # no scene change: the robot is still in its place, which absorbs the frame (step 7)
-            return self._absorb(self.current, desc, self.kernels[self.current].match(desc))
-        if place != self.current and self.current != UNKNOWN:
-            self.graph.add_edge(self.current, place)  # a loop closure when they were not adjacent
-        if distance > self.t_update_cluster:
-            return self._absorb(place, desc, matches)
-        self.current = place
-        return place
+            return self._absorb(here.place, desc, here.matches)
+        if best.place != self.current and self.current != UNKNOWN:
+            # a loop closure when they were not adjacent
+            self.graph.add_edge(self.current, best.place)
+        if best.distance > self.t_update_cluster:
+            return self._absorb(best.place, desc, best.matches)
+        self.current = best.place
+        return best.place
 
     def localize_one(self, frame: np.ndarray) -> int:
         """Track the robot on a fixed map: the place of ``frame``, or :data:`UNKNOWN`.
@@ -248,7 +261,8 @@ class OnlinePlaceClustering:
         desc = self._describe(frame)
         if desc is None or not self.kernels:
             return UNKNOWN
-        return self._localized(*self._nearest(desc)[:2])
+        best, _ = self._nearest(desc)
+        return self._localized(best.place, best.distance)
 
     def reset_position(self) -> None:
         """Forget where the robot is (it was carried elsewhere): the next frame is searched in
@@ -323,37 +337,33 @@ class OnlinePlaceClustering:
                               normalize(whole.descriptors, whole.binary))
         return desc
 
-    def _distance(self, place: int, desc: np.ndarray) -> tuple[float, tuple]:
+    def _compare(self, place: int, desc: np.ndarray) -> _Compared:
         kernel = self.kernels[place]
         matches = kernel.match(desc)
-        return 1.0 - dice_eq4(len(matches[0]), len(kernel), len(desc)), matches
+        return _Compared(place, 1.0 - dice_eq4(len(matches[0]), len(kernel), len(desc)), matches)
 
-    def _nearest(self, desc: np.ndarray, whole_map: bool = True) -> tuple[int, float, tuple]:
-        """Best place among the current one and its neighbours, then the whole map if needed
-        (and ``whole_map``, or no place is current).
+    def _nearest(self, desc: np.ndarray, whole_map: bool = True
+                 ) -> tuple[_Compared, _Compared | None]:
+        """``(best, here)``: the best place among the current one and its neighbours, then the
+        whole map if needed (and ``whole_map``, or no place is current); ``here`` is the
+        current place's comparison, ``None`` when no place is current.
 
         "The whole map" is the ``shortlist`` places with most votes in the index, so the cost
         does not grow with the number of places.
         """
-        if self.current == UNKNOWN:
-            candidates: list[int] = []
-            best = (UNKNOWN, np.inf, (np.zeros(0, np.int64), np.zeros(0, np.int64)))
-        else:
-            here = (self.current, *self._distance(self.current, desc))
-            if here[1] <= self.t_update_cluster:
-                return here
-            candidates = [self.current, *self.graph.neighbors(self.current)]
-            best = min([here, *((p, *self._distance(p, desc)) for p in candidates[1:])],
-                       key=lambda r: r[1])
-        if best[1] > self.t_new_cluster and (
-                (self.relocalize and whole_map) or self.current == UNKNOWN):
+        here = None if self.current == UNKNOWN else self._compare(self.current, desc)
+        if here is not None and here.distance <= self.t_update_cluster:
+            return here, here
+        candidates = [] if here is None else [self.current, *self.graph.neighbors(self.current)]
+        best = min([here or _NONE, *(self._compare(p, desc) for p in candidates[1:])],
+                   key=lambda c: c.distance)
+        if best.distance > self.t_new_cluster and (
+                (self.relocalize and whole_map) or here is None):
             for p in self._shortlist(desc, exclude=candidates):
-                cand = (p, *self._distance(p, desc))
-                if cand[1] < best[1]:
-                    best = cand
-                if best[1] <= self.t_update_cluster:
+                best = min(best, self._compare(p, desc), key=lambda c: c.distance)
+                if best.distance <= self.t_update_cluster:
                     break
-        return best
+        return best, here
 
     def _shortlist(self, desc: np.ndarray, exclude: list[int]) -> list[int]:
         """The ``shortlist`` places the index votes for most, leaving out ``exclude``."""

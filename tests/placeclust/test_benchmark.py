@@ -23,6 +23,7 @@ def test_best_of_sweeps_gives_the_lowest_and_highest_median_per_size():
     assert [r["places"] for r in rows] == [3, 5]
     for r in rows:
         assert 0 < r["track_ms"] <= r["track_ms_max"] and 0 < r["loop_ms"] <= r["loop_ms_max"]
+        assert 0 < r["features_ms"] <= r["features_ms_max"]
     with pytest.raises(ValueError, match="repeats"):
         best_of_sweeps("orb", [3], repeats=0)
 

@@ -1,4 +1,6 @@
+import cv2
 import numpy as np
+import pytest
 
 from placeclust.kernel import UnionKernel
 from placeclust.matching import dice_eq4, knn2, ratio_matches, similarity_eq1
@@ -42,10 +44,20 @@ def test_ratio_matches_and_eq1_eq4():
     assert np.all(idx[:, 1] == -1) and np.all(np.isinf(dist[:, 1]))
 
 
-def test_float_knn2_agrees_with_brute_force():
-    """The two nearest train rows and their Euclidean distances, nearest first."""
+@pytest.fixture(params=[1, 4], ids=["one-thread", "split-in-four"])
+def cv_threads(request):
+    """OpenCV's thread count, which also splits placeclust's matching; restored afterwards."""
+    before = cv2.getNumThreads()
+    cv2.setNumThreads(request.param)
+    yield request.param
+    cv2.setNumThreads(before)
+
+
+def test_float_knn2_agrees_with_brute_force(cv_threads):
+    """The two nearest train rows and their Euclidean distances, nearest first, whether the
+    query rows are matched in one piece or split over threads (600 rows: four parts)."""
     rng = np.random.default_rng(5)
-    query, train = unit(rng, 40), unit(rng, 90)
+    query, train = unit(rng, 600), unit(rng, 90)
     train[:10] = query[:10] + 0.05 * train[:10]  # some near-duplicates, as in a union kernel
     train /= np.linalg.norm(train, axis=1, keepdims=True)
     full = np.linalg.norm(query[:, None, :] - train[None, :, :], axis=2)
@@ -56,6 +68,8 @@ def test_float_knn2_agrees_with_brute_force():
     dist, idx = knn2(query[:3], train[:2], False)  # two train rows: both, in order
     np.testing.assert_array_equal(np.sort(idx, axis=1), [[0, 1]] * 3)
     assert np.all(dist[:, 0] <= dist[:, 1])
+    dist, idx = knn2(query, train[:1], False)  # one train row: the second column is empty
+    assert np.all(idx == [0, -1]) and np.all(np.isinf(dist[:, 1]))
 
 
 def test_binary_matching():

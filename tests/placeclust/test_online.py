@@ -7,6 +7,7 @@ from hypothesis import strategies as st
 from hypothesis.extra import numpy as hnp
 
 from placeclust import UNKNOWN, OnlinePlaceClustering
+from placeclust.kernel import UnionKernel
 from placeclust.metrics import precision
 from placeclust.synthetic import textured
 
@@ -48,7 +49,7 @@ def test_a_recognised_frame_is_matched_with_its_place_alone(two_places):
         model.learn_one(f)
     assert model.current == 0 and model.graph.degree(0) == 3
     compared = []
-    model._distance = lambda place, desc, own=model._distance: compared.append(place) or own(
+    model._compare = lambda place, desc, own=model._compare: compared.append(place) or own(
         place, desc)
     assert model.learn_predict_one(frames[0]) == 0
     assert compared == [0]
@@ -188,3 +189,27 @@ def test_the_scene_change_gate_keeps_a_drifting_view_in_one_place():
     assert len(searches[None]) > 0 and all(searches[0.25])
     with pytest.raises(ValueError, match="threshold"):
         OnlinePlaceClustering(scene_change=1.0)
+
+
+def test_a_frame_the_closed_gate_keeps_is_matched_with_its_place_once(monkeypatch):
+    """A frame beyond ``t_new_cluster`` that the closed gate keeps in its place is absorbed
+    with the correspondences its comparison found: no kernel is matched twice per frame."""
+    model = OnlinePlaceClustering(kernel_capacity=300, scene_change=0.25, scene_lag=3)
+    matched, far = [], []
+    own_match, own_compare = UnionKernel.match, model._compare
+    monkeypatch.setattr(UnionKernel, "match",
+                        lambda kernel, desc: matched.append(id(kernel)) or own_match(kernel, desc))
+
+    def compare(place, desc):
+        compared = own_compare(place, desc)
+        far.append(compared.distance > model.t_new_cluster)
+        return compared
+
+    model._compare = compare
+    kept = 0
+    for frame in _pan(5, 60, 16):
+        matched.clear(), far.clear()
+        assert model.learn_predict_one(frame) == 0
+        assert len(matched) == len(set(matched))
+        kept += bool(far) and all(far)
+    assert kept > 0  # the pan did leave the kernel behind
