@@ -4,9 +4,10 @@
 
 It needs no simulator: it grows a map of synthetic places and times the online recognizer at
 each size on frames it tracks (the current place) and on frames of a random earlier place (a
-loop closure through the relocalization index), and times the feature detection alone on the
-tracked frames: the rest of a frame is the recognizer's own work. Quality on simulated tours is
-``placeclust bench`` (:mod:`placeclust.bench`), which also runs this sweep for its plot.
+loop closure through the relocalization index), and apart from the whole frame, the
+recognizer's own work: the frame less its feature detection, which does not depend on the map.
+Quality on simulated tours is ``placeclust bench`` (:mod:`placeclust.bench`), which also runs
+this sweep for its plot.
 """
 
 from __future__ import annotations
@@ -17,45 +18,56 @@ import time
 
 import numpy as np
 
-from placeclust.features import FeatureExtractor
-from placeclust.frames import to_gray
 from placeclust.online import OnlinePlaceClustering
 from placeclust.synthetic import jitter, textured
 
 
 def _median_ms(model: OnlinePlaceClustering, frames: list[np.ndarray], from_here: bool = False
-               ) -> float:
-    """Median ms of ``learn_predict_one`` over ``frames``; ``from_here``: each frame starts
-    from the graph and place the model has now (the edge a loop closure adds is taken back)."""
-    times = []
-    for f in frames:
-        graph, current = (model.graph.copy(), model.current) if from_here else (None, None)
+               ) -> tuple[float, float, float]:
+    """Medians over ``frames`` of ``learn_predict_one``, of the feature detection inside it, and
+    of the rest, the recognizer's own work (each frame's whole minus its own detection), in ms.
+
+    ``from_here``: each frame starts from the graph and place the model has now (the edge a
+    loop closure adds is taken back).
+    """
+    extractor = model._extractor
+    detection: list[float] = []
+
+    def timed_detection(gray: np.ndarray, own=extractor.extract_pair):
         start = time.perf_counter()
-        model.learn_predict_one(f)
-        times.append(time.perf_counter() - start)
-        if from_here:
-            model.graph, model.current = graph, current
-    return 1000.0 * float(np.median(times))
+        found = own(gray)
+        detection.append(time.perf_counter() - start)
+        return found
+
+    times = []
+    extractor.extract_pair = timed_detection  # an instance attribute, removed below
+    try:
+        for f in frames:
+            graph, current = (model.graph.copy(), model.current) if from_here else (None, None)
+            start = time.perf_counter()
+            model.learn_predict_one(f)
+            times.append(time.perf_counter() - start)
+            if from_here:
+                model.graph, model.current = graph, current
+    finally:
+        del extractor.extract_pair
+    whole, detect = 1000.0 * np.array(times), 1000.0 * np.array(detection)
+    return float(np.median(whole)), float(np.median(detect)), float(np.median(whole - detect))
 
 
-def _features_ms(model: OnlinePlaceClustering, frames: list[np.ndarray]) -> float:
-    """Median ms of the feature detection alone (the model's settings) over ``frames``."""
-    extractor = FeatureExtractor(model.features, model.max_features, model.normalize,
-                                 model.scale, model.view)
-    times = []
-    for f in frames:
-        gray = to_gray(f)
-        start = time.perf_counter()
-        extractor.extract_pair(gray)
-        times.append(time.perf_counter() - start)
-    return 1000.0 * float(np.median(times))
+#: The timings of a :func:`latency_vs_map_size` row, all medians in ms per frame.
+TIMINGS = ("track_ms", "loop_ms", "features_ms", "track_own_ms", "loop_own_ms")
 
 
 def latency_vs_map_size(features: str, sizes: list[int], probes: int = 30, seed: int = 0
                         ) -> list[dict[str, float]]:
-    """Median ms per frame at each map size, for tracking and for loop closures, and of the
-    feature detection alone on the tracking frames (``features_ms``, the part that does not
-    depend on the map).
+    """Median ms per frame at each map size, for tracking and for loop closures.
+
+    Each row holds :data:`TIMINGS`: ``track_ms`` and ``loop_ms`` are whole frames,
+    ``features_ms`` the feature detection inside the tracked ones (it does not depend on the
+    map), and ``track_own_ms``, ``loop_own_ms`` the recognizer's own work, each frame less its
+    detection: the part that could grow with the map, and steadier than the whole on a machine
+    whose speed drifts, because the detector's swings are taken out frame by frame.
 
     The map grows with one synthetic place per new image (512×128); after it reaches each size,
     ``probes`` frames of the current place and ``probes`` revisits of random earlier places are
@@ -72,13 +84,13 @@ def latency_vs_map_size(features: str, sizes: list[int], probes: int = 30, seed:
         while len(bases) < size:
             bases.append(textured(10_000 + len(bases)))
             model.learn_one(bases[-1])
-        tracked = [jitter(bases[-1], rng) for _ in range(probes)]
-        track = _median_ms(model, tracked)
-        detect = _features_ms(model, tracked)
+        track, detect, track_own = _median_ms(
+            model, [jitter(bases[-1], rng) for _ in range(probes)])
         revisits = [jitter(bases[int(rng.integers(len(bases) - 1))], rng) for _ in range(probes)]
-        loop = _median_ms(model, revisits, from_here=True)
+        loop, _, loop_own = _median_ms(model, revisits, from_here=True)
         rows.append({"features": features, "places": model.n_places, "track_ms": track,
-                     "loop_ms": loop, "features_ms": detect})
+                     "loop_ms": loop, "features_ms": detect, "track_own_ms": track_own,
+                     "loop_own_ms": loop_own})
     return rows
 
 
@@ -86,11 +98,10 @@ def best_of_sweeps(features: str, sizes: list[int], repeats: int = 3
                    ) -> list[dict[str, float]]:
     """:func:`latency_vs_map_size` run ``repeats`` times, each on a fresh map (the same frames).
 
-    Returns one row per size: ``track_ms``, ``loop_ms`` and ``features_ms`` are the lowest of
-    the sweeps' medians and ``track_ms_max``, ``loop_ms_max``, ``features_ms_max`` the highest.
-    A shared machine slows down for seconds at a time, so one sweep can find one size slow; the
-    sweeps lie half a minute apart, and the lowest figure is the machine's own speed (as
-    ``timeit`` takes the best of its runs).
+    Returns one row per size: each of :data:`TIMINGS` is the lowest of the sweeps' medians, and
+    ``<timing>_max`` the highest. A shared machine slows down for seconds at a time, so one
+    sweep can find one size slow; the sweeps lie half a minute apart, and the lowest figure is
+    the machine's own speed (as ``timeit`` takes the best of its runs).
     """
     if repeats < 1:
         raise ValueError(f"repeats must be at least 1, got {repeats}")
@@ -98,11 +109,27 @@ def best_of_sweeps(features: str, sizes: list[int], repeats: int = 3
     rows = []
     for points in zip(*sweeps):
         row = dict(points[0])
-        for key in ("track_ms", "loop_ms", "features_ms"):
+        for key in TIMINGS:
             values = [p[key] for p in points]
             row[key], row[f"{key}_max"] = min(values), max(values)
         rows.append(row)
     return rows
+
+
+def _table(features: str, rows: list[dict[str, float]]) -> list[str]:
+    """Markdown rows for one feature type, and the last size over the first."""
+    def cell(row: dict[str, float], key: str) -> str:
+        return f"{row[key]:.1f} ({row[key + '_max']:.1f})"
+
+    lines = [f"| {features} | {r['places']} | {cell(r, 'track_ms')} | {cell(r, 'loop_ms')} | "
+             f"{cell(r, 'features_ms')} | {r['track_own_ms']:.1f} / {r['loop_own_ms']:.1f} |"
+             for r in rows]
+    first, last = rows[0], rows[-1]
+    ratio = {key: last[key] / first[key] for key in TIMINGS}
+    lines.append(f"| {features} | {last['places']} / {first['places']} | "
+                 f"{ratio['track_ms']:.2f}x | {ratio['loop_ms']:.2f}x | | "
+                 f"{ratio['track_own_ms']:.2f}x / {ratio['loop_own_ms']:.2f}x |")
+    return lines
 
 
 def main(argv: list[str] | None = None) -> int:
@@ -119,19 +146,14 @@ def main(argv: list[str] | None = None) -> int:
         p.error("--sizes must be at least 2 places")
     if args.repeats < 1:
         p.error("--repeats must be at least 1")
-    print(f"median ms per frame over 30 frames, lowest (highest) of {args.repeats} sweeps\n")
-    print("| features | places | tracking ms | loop closure ms | of which detection ms |")
-    print("|---|---|---|---|---|")
+    print(f"median ms per frame over 30 frames, lowest (highest) of {args.repeats} sweeps; "
+          "own: the recognizer's part of a frame, its detection taken out\n")
+    print("| features | places | tracking ms | loop closure ms | detection ms | "
+          "own ms: tracking / loop closure |")
+    print("|---|---|---|---|---|---|")
     for feat in args.features:
-        rows = best_of_sweeps(feat, args.sizes, args.repeats)
-        for r in rows:
-            print(f"| {feat} | {r['places']} | {r['track_ms']:.1f} ({r['track_ms_max']:.1f}) | "
-                  f"{r['loop_ms']:.1f} ({r['loop_ms_max']:.1f}) | "
-                  f"{r['features_ms']:.1f} ({r['features_ms_max']:.1f}) |", flush=True)
-        first, last = rows[0], rows[-1]
-        print(f"| {feat} | {last['places']} / {first['places']} | "
-              f"{last['track_ms'] / first['track_ms']:.2f}x | "
-              f"{last['loop_ms'] / first['loop_ms']:.2f}x | |", flush=True)
+        for line in _table(feat, best_of_sweeps(feat, args.sizes, args.repeats)):
+            print(line, flush=True)
     return 0
 
 

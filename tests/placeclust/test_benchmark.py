@@ -1,7 +1,7 @@
 import numpy as np
 import pytest
 
-from placeclust.benchmark import _median_ms, best_of_sweeps, main
+from placeclust.benchmark import TIMINGS, _median_ms, best_of_sweeps, main
 from placeclust.online import OnlinePlaceClustering
 from placeclust.synthetic import jitter, textured
 
@@ -12,8 +12,10 @@ def test_a_loop_closure_probe_leaves_the_graph_and_place_as_they_were():
         model.learn_one(textured(seed))
     edges, current = set(model.graph.edges), model.current
     revisit = jitter(textured(1), np.random.default_rng(0))
-    _median_ms(model, [revisit], from_here=True)
+    total, detection, own = _median_ms(model, [revisit], from_here=True)
     assert set(model.graph.edges) == edges and model.current == current
+    assert 0 < detection < total and own == pytest.approx(total - detection)
+    assert "extract_pair" not in vars(model._extractor)  # the timer is gone afterwards
     _median_ms(model, [revisit])  # a plain probe closes the loop, as learning does
     assert model.graph.has_edge(2, 0) and model.current == 0
 
@@ -22,8 +24,9 @@ def test_best_of_sweeps_gives_the_lowest_and_highest_median_per_size():
     rows = best_of_sweeps("orb", [3, 5], repeats=2)
     assert [r["places"] for r in rows] == [3, 5]
     for r in rows:
-        assert 0 < r["track_ms"] <= r["track_ms_max"] and 0 < r["loop_ms"] <= r["loop_ms_max"]
-        assert 0 < r["features_ms"] <= r["features_ms_max"]
+        for key in TIMINGS:
+            assert 0 < r[key] <= r[f"{key}_max"]
+        assert r["track_own_ms"] < r["track_ms"] and r["loop_own_ms"] < r["loop_ms"]
     with pytest.raises(ValueError, match="repeats"):
         best_of_sweeps("orb", [3], repeats=0)
 
