@@ -10,8 +10,8 @@ votes: for each image feature, the place owning its nearest indexed feature.
 
 FLANN searches one query feature after another, so the features are split over OpenCV's
 threads (:func:`placeclust.threads.split_rows`; ``cv2.setNumThreads(1)`` keeps the index on one
-core too). On the 2-core machine of the README a query of a 500-place
-map took 4.7 against 2.4 ms (SIFT) and 2.9 against 1.8 ms (ORB), with the same answers.
+core too). On the 2-core machine of the README a query of a 500-place map took 4.7 against
+2.4 ms (SIFT) and 2.9 against 1.8 ms (ORB), with the same answers.
 """
 
 from __future__ import annotations

@@ -14,8 +14,8 @@ from threadpoolctl import ThreadpoolController
 
 from placeclust.threads import split_rows
 
-# The matching GEMMs run on one BLAS thread each (split over OpenCV's threads by the caller
-# instead, see below). OpenBLAS's own threads keep spinning after each call: on 2 cores they
+# The matching GEMMs run on one BLAS thread each (``knn2`` splits a match over OpenCV's
+# threads instead). OpenBLAS's own threads keep spinning after each call: on 2 cores they
 # slowed OpenCV's SIFT in the same process (``make demo``: 20.0 ms per frame with them, 15.5 ms
 # without, the same places). The limit is taken in the calling thread, around the split (the
 # worker threads follow it: OpenBLAS ignored a limit set in a worker once the main thread had

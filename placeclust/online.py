@@ -355,7 +355,8 @@ class OnlinePlaceClustering:
         if here is not None and here.distance <= self.t_update_cluster:
             return here, here
         candidates = [] if here is None else [self.current, *self.graph.neighbors(self.current)]
-        best = min([here or _NONE, *(self._compare(p, desc) for p in candidates[1:])],
+        start = _NONE if here is None else here
+        best = min([start, *(self._compare(p, desc) for p in candidates[1:])],
                    key=lambda c: c.distance)
         if best.distance > self.t_new_cluster and (
                 (self.relocalize and whole_map) or here is None):

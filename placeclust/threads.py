@@ -21,14 +21,16 @@ T = TypeVar("T")
 
 _pool: tuple[int, ThreadPoolExecutor] | None = None  # (pid, pool): a forked child makes its own
 _pool_lock = threading.Lock()
+_in_worker = threading.local()  # set in the pool's threads, whose work must not wait on the pool
 
 
 def _workers() -> ThreadPoolExecutor:
     global _pool
     with _pool_lock:
         if _pool is None or _pool[0] != os.getpid():
-            _pool = (os.getpid(), ThreadPoolExecutor(max(1, (os.cpu_count() or 2) - 1),
-                                                     thread_name_prefix="placeclust"))
+            _pool = (os.getpid(), ThreadPoolExecutor(
+                max(1, (os.cpu_count() or 2) - 1), thread_name_prefix="placeclust",
+                initializer=setattr, initargs=(_in_worker, "active", True)))
         return _pool[1]
 
 
@@ -42,11 +44,12 @@ def split_rows(fn: Callable[[np.ndarray], T], rows: np.ndarray, min_rows: int) -
         min_rows: the fewest rows per chunk (below that a thread costs more than it saves).
 
     Returns:
-        ``fn``'s results in chunk order (one result, ``fn(rows)``, when no split pays off).
-        The calling thread takes the first chunk.
+        ``fn``'s results in chunk order (one result, ``fn(rows)``, when no split pays off, or
+        when called from a chunk's own work: a worker waiting on the pool it belongs to could
+        wait forever). The calling thread takes the first chunk.
     """
     parts = min(cv2.getNumThreads(), len(rows) // max(1, min_rows))
-    if parts <= 1:
+    if parts <= 1 or getattr(_in_worker, "active", False):
         return [fn(rows)]
     chunks = np.array_split(rows, parts)
     later = [_workers().submit(fn, chunk) for chunk in chunks[1:]]

@@ -208,7 +208,8 @@ def test_a_frame_the_closed_gate_keeps_is_matched_with_its_place_once(monkeypatc
     model._compare = compare
     kept = 0
     for frame in _pan(5, 60, 16):
-        matched.clear(), far.clear()
+        matched.clear()
+        far.clear()
         assert model.learn_predict_one(frame) == 0
         assert len(matched) == len(set(matched))
         kept += bool(far) and all(far)
