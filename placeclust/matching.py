@@ -46,6 +46,9 @@ def knn2(query: np.ndarray, train: np.ndarray, binary: bool) -> tuple[np.ndarray
     n = len(query)
     if n == 0 or len(train) == 0:
         return np.full((n, 2), np.inf, np.float32), np.full((n, 2), -1, np.int64)
+    if query.shape[1] != train.shape[1]:
+        raise ValueError(f"query descriptors have {query.shape[1]} columns, train descriptors "
+                         f"{train.shape[1]}: not the same feature type")
     single = len(train) == 1
     if binary:
         # one thread: split over two cores, the 12-room tour's ORB matching took no less time
