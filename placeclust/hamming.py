@@ -56,6 +56,9 @@ def _top2_words(query: np.ndarray, train_t: np.ndarray) -> tuple[np.ndarray, np.
 def as_words(descriptors: np.ndarray) -> np.ndarray:
     """(n, bytes) uint8 descriptors as (n, words) uint64, zero-padded to whole words (zeros
     add nothing to a Hamming distance: AKAZE's 61 bytes become 8 words)."""
+    if descriptors.dtype != np.uint8 or descriptors.ndim != 2:
+        raise ValueError(f"binary descriptors must be a 2-D uint8 array, got "
+                         f"{descriptors.ndim}-D {descriptors.dtype}")
     n, nbytes = descriptors.shape
     words = -(-nbytes // 8)
     if nbytes == 8 * words and descriptors.flags.c_contiguous:

@@ -55,5 +55,7 @@ def test_words_of_a_strided_view_and_bad_input():
         top2_hamming(wide[:, :32], as_words(wide[:, :32]).T)
     with pytest.raises(ValueError, match="words"):
         top2_hamming(as_words(wide), np.ascontiguousarray(as_words(wide[:, :32]).T))
+    with pytest.raises(ValueError, match="uint8"):  # bytes, not bits or integers
+        as_words(wide.astype(np.int32))
     with pytest.raises(ValueError, match="columns"):  # 30 and 32 bytes are both 4 words
         knn2(wide[:, :30], wide[:, :32], True)
