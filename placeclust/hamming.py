@@ -2,9 +2,9 @@
 
 OpenCV's ``batchDistance`` (what ``BFMatcher`` uses) calls a Hamming routine per pair of
 descriptors: on the README's machine 500 ORB features against a 1,200-feature kernel took
-2.6-4.4 ms, the cost of nearly every binary match. Here the kernel's descriptors are laid out
+2.2-4.8 ms, the cost of nearly every binary match. Here the kernel's descriptors are laid out
 word-major, so that one query word is XORed and popcounted against many kernel rows at once
-(SIMD over the rows), and the two nearest are then picked in one pass: 0.5 ms for the same
+(SIMD over the rows), and the two nearest are then picked in one pass: 0.4-0.7 ms for the same
 match on one core, with the same distances and indices (ties keep OpenCV's order, the lower
 index first; tested against brute force).
 """
