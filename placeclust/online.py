@@ -369,7 +369,9 @@ class OnlinePlaceClustering:
     def _shortlist(self, desc: np.ndarray, exclude: list[int]) -> list[int]:
         """The ``shortlist`` places the index votes for most, leaving out ``exclude``."""
         votes = self._index.votes(desc)
-        ranked = sorted(votes, key=lambda p: (-votes[p], p))
+        places = np.fromiter(votes.keys(), np.int64, len(votes))
+        counts = np.fromiter(votes.values(), np.int64, len(votes))
+        ranked = places[np.lexsort((places, -counts))].tolist()  # most votes, then lowest id
         return [p for p in ranked if p not in exclude][: self.shortlist]
 
     def _localized(self, place: int, distance: float) -> int:
