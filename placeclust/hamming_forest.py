@@ -7,9 +7,9 @@ randomly chosen descriptors (the medoids, no iteration), recursively, until a no
 most ``leaf_size``; a query descends each tree to the nearest medoid at every level and
 compares the descriptors of the leaf it reaches. FLANN with 4 trees and ``checks=16`` spent its
 checks in the first tree's leaf and searched no other, one query at a time through a priority
-queue: against a 500-place map (32,000 descriptors) an image's ~340 ORB features took 1.7-2.0 ms
+queue: against a 500-place map (32,000 descriptors) an image's ~340 ORB features took 1.7-2.2 ms
 on one core of the README's machine, and found the true nearest's place for 25% of them. Here all 4
-trees are searched in 0.4 ms, for 51%.
+trees are searched in 0.4-0.6 ms, for 51%.
 
 The trees are drawn from a seed, so the same descriptors and seed give the same index in any
 process, whatever else drew random numbers before.
