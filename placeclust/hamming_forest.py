@@ -155,27 +155,27 @@ class HammingForest:
         if trees < 1 or branching < 2 or leaf_size < 1 or seed < 0:
             raise ValueError(f"need trees >= 1, branching >= 2, leaf_size >= 1 and seed >= 0, "
                              f"got {trees}, {branching}, {leaf_size} and {seed}")
-        self._words = np.ascontiguousarray(as_words(descriptors))
+        words = np.ascontiguousarray(as_words(descriptors))
         self._nbytes = descriptors.shape[1]
-        parts = [_build_tree(self._words, branching, leaf_size, (_TREE_SEEDS * seed + t) % 2**63)
+        parts = [_build_tree(words, branching, leaf_size, (_TREE_SEEDS * seed + t) % 2**63)
                  for t in range(trees)]
         # the trees side by side in one set of arrays: node and row numbers offset per tree
         nodes = np.cumsum([0] + [len(p[1]) for p in parts])
-        rows = len(self._words) * np.arange(trees)
+        rows = len(words) * np.arange(trees)
         self._roots = nodes[:-1].astype(np.int64)
         self._perm = np.concatenate([p[0] for p in parts])
         self._first_child = np.concatenate(
             [np.where(p[1] >= 0, p[1] + o, -1) for p, o in zip(parts, nodes)])
         self._n_children = np.concatenate([p[2] for p in parts])
-        self._center = np.concatenate([p[3] for p in parts])
         self._start = np.concatenate([p[4] + r for p, r in zip(parts, rows)])
         self._stop = np.concatenate([p[5] + r for p, r in zip(parts, rows)])
-        # the words again in search order, so that a query reads leaves and medoids in sequence
-        self._leaf_words = self._words[self._perm]
-        self._center_words = self._words[np.maximum(self._center, 0)]
+        # the words in search order (copies), so that a query reads leaves and medoids in
+        # sequence; a root has no medoid and its row is never read
+        self._leaf_words = words[self._perm]
+        self._center_words = words[np.maximum(np.concatenate([p[3] for p in parts]), 0)]
 
     def __len__(self) -> int:
-        return len(self._words)
+        return len(self._perm) // len(self._roots)
 
     def nearest(self, descriptors: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """The approximately nearest indexed descriptor of each of ``descriptors``.
