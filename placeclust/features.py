@@ -15,7 +15,8 @@ size and the matching cost stay bounded.
 Frames can be resized by ``scale`` before detection (keypoint coordinates are given back in
 the frame's pixels). OpenCV's SIFT doubles its input for its first octave, so on simulator
 panoramas ``scale=0.75`` (384x96) still yields ~470 of the 500 features of a 512x128 frame, in
-7.6-8.3 instead of 9.5-11.5 ms (README, "Measured figures").
+7.6-8.3 instead of 9.5-11.5 ms (README, "Measured figures"); :data:`placeclust.PANORAMA` uses
+it.
 
 On 360° panoramas ``view="sides"`` keeps only the keypoints seen at the robot's left and right
 (see :data:`VIEWS`): a sideways view changes room as the robot passes the door.
