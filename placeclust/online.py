@@ -40,13 +40,13 @@ _NONE = _Compared(UNKNOWN, np.inf, (np.zeros(0, np.int64), np.zeros(0, np.int64)
 #: caller's change cannot leak into another's recognizer.
 #:
 #: Why ``scale=0.75`` (placeclust 0.9.0): OpenCV's SIFT is most of a frame, and it doubles its
-#: input for its first octave, so a 384x96 copy of a 512x128 panorama still gives ~480 of the
-#: 500 features, in ~10 instead of ~15 ms. On the 16 tours of ``README``, "Scene changes", the
-#: quality held (precision 0.987 against 0.982, NMI 0.864 against 0.863, 1.51
-#: against 1.43 places per room; 15 tours of 16 meet all three bars, against 13). Its price is
-#: reuse under another condition, which the gate already makes poor: mapped by day, localized
-#: by night, cloudy light, moved furniture or camera noise, precision 0.77-0.82 against
-#: 0.80-0.85. ``dict(PANORAMA, scale=1.0)`` gives the full-size detection back.
+#: input for its first octave, so a 384x96 copy of a 512x128 panorama still gives ~470-480 of
+#: the 500 features, in ~10 instead of ~15 ms. On the 16 tours of ``README``, "Scene changes",
+#: the quality held (precision 0.987 against 0.982, NMI 0.864 against 0.863, 1.51 against 1.43
+#: places per room; 15 tours of 16 meet all three bars, against 13). Its price is reuse under
+#: another condition, which the gate already makes poor: mapped by day, localized by night,
+#: cloudy light, moved furniture or camera noise, precision 0.77-0.82 against 0.80-0.85.
+#: ``dict(PANORAMA, scale=1.0)`` gives the full-size detection back.
 PANORAMA: Mapping[str, object] = MappingProxyType(
     {"view": "sides", "kernel_capacity": 600, "scene_change": 0.25, "scale": 0.75})
 
