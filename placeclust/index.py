@@ -147,9 +147,19 @@ class PlaceIndex:
 
     def votes(self, descriptors: np.ndarray) -> dict[int, int]:
         """Place -> number of ``descriptors`` whose nearest indexed feature belongs to it."""
+        places, counts = self._tally(descriptors)
+        return dict(zip(places.tolist(), counts.tolist()))
+
+    def ranked(self, descriptors: np.ndarray) -> list[int]:
+        """The places with votes (see :meth:`votes`), most votes first, then the lowest id."""
+        places, counts = self._tally(descriptors)
+        return places[np.argsort(-counts, kind="stable")].tolist()  # places come in id order
+
+    def _tally(self, descriptors: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """``(places, counts)``: the places with votes in increasing id order, and their votes."""
         n = len(descriptors)
         if n == 0 or not self._places:
-            return {}
+            return np.zeros(0, np.int64), np.zeros(0, np.int64)
         best_d = np.full(n, np.inf)
         best_p = np.full(n, -1, np.int64)
         if self._tree is None and self._data is not None:
@@ -165,5 +175,4 @@ class PlaceIndex:
             dist, idx = knn2(descriptors, data, self.binary)
             closer = (idx[:, 0] >= 0) & (dist[:, 0] < best_d)
             best_p[closer] = labels[idx[closer, 0]]
-        places, counts = np.unique(best_p[best_p >= 0], return_counts=True)
-        return dict(zip(places.tolist(), counts.tolist()))
+        return np.unique(best_p[best_p >= 0], return_counts=True)

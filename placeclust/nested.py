@@ -176,9 +176,8 @@ class NestedMapper:
                              self.ratio)
 
     def _best_location(self, desc: np.ndarray) -> tuple[int, int]:
-        votes = self._index.votes(desc)
         last = self.current[0]
-        ranked = sorted(votes, key=lambda p: (-votes[p], p))[: self.rank]
+        ranked = self._index.ranked(desc)[: self.rank]
         if last != UNKNOWN and last not in ranked:
             ranked.append(last)
         counts = [(len(self._matches(p, desc)[0]), p) for p in ranked]

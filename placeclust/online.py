@@ -378,10 +378,7 @@ class OnlinePlaceClustering:
 
     def _shortlist(self, desc: np.ndarray, exclude: list[int]) -> list[int]:
         """The ``shortlist`` places the index votes for most, leaving out ``exclude``."""
-        votes = self._index.votes(desc)
-        places = np.fromiter(votes.keys(), np.int64, len(votes))
-        counts = np.fromiter(votes.values(), np.int64, len(votes))
-        ranked = places[np.lexsort((places, -counts))].tolist()  # most votes, then lowest id
+        ranked = self._index.ranked(desc)
         return [p for p in ranked if p not in exclude][: self.shortlist]
 
     def _localized(self, place: int, distance: float) -> int:

@@ -52,6 +52,18 @@ def test_votes_name_the_place_seen_again_in_the_tree_and_in_the_tail(binary):
         assert_clear_winner(index.votes(seen_again(samples[place], binary, rng)), place)
 
 
+def test_ranked_places_come_by_most_votes_then_lowest_id():
+    """The order the recognizers check a shortlist in: ties go to the lower place id, whatever
+    the order of the features that voted."""
+    samples = place_samples(binary=False)
+    index = filled_index(samples, False)
+    # exact copies of tail features (places 24-29), searched by brute force: exact votes
+    query = np.concatenate([samples[27][:3], samples[25][:5], samples[24][:3], samples[29][:1]])
+    assert index.votes(query) == {24: 3, 25: 5, 27: 3, 29: 1}
+    assert index.ranked(query) == [25, 24, 27, 29]
+    assert index.ranked(query[:0]) == []
+
+
 def test_small_maps_are_searched_exactly_and_large_ones_keep_a_short_tail():
     samples = place_samples(binary=False)
     index = PlaceIndex(False, lambda p: samples[p], max_tail=2, exact_below=5)

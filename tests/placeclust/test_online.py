@@ -179,7 +179,7 @@ def test_the_scene_change_gate_keeps_a_drifting_view_in_one_place():
     for gate in (None, 0.25):
         model = OnlinePlaceClustering(kernel_capacity=300, scene_change=gate, scene_lag=3)
         searched = []
-        model._index.votes = lambda desc, m=model, own=model._index.votes, log=searched: (
+        model._index.ranked = lambda desc, m=model, own=model._index.ranked, log=searched: (
             log.append(m._gate is not None and m._gate.is_open) or own(desc))
         places[gate] = [model.learn_predict_one(f) for f in frames]
         searches[gate] = searched
