@@ -6,7 +6,7 @@ PY := $(VENV)/bin/python
 PIP := $(PY) -m pip
 export MUJOCO_GL ?= egl
 
-.PHONY: demo test bench bench-quick bench-long bench-env bench-latency train eval clean
+.PHONY: demo test benchmarks bench bench-quick bench-long bench-env bench-latency train eval clean
 
 $(VENV)/.installed: pyproject.toml
 	$(PYTHON) -m venv $(VENV)
@@ -22,7 +22,26 @@ test: $(VENV)/.installed
 	$(PY) -m ruff check .
 	$(PY) -m pytest -q
 
-# the benchmark matrix (placeclust/bench.py): results.csv, results.md, precision.png, latency.png
+# Regenerates every table of docs/benchmarks.md, one command after the other (never two timings
+# at once): about an hour on a 2-core machine.
+DOCS := --docs docs/benchmarks.md
+PANORAMA_TOURS := --algos online --features sift --conditions day --scenes 0 1 2 3 --rooms 4 8 \
+	--tour-seeds 0 1 --steps-per-room 150 --latency-sizes
+benchmarks: $(VENV)/.installed
+	$(VENV)/bin/placeclust demo --out runs/demo $(DOCS)
+	$(VENV)/bin/placeclust bench $(PANORAMA_TOURS) --param view=sides --param kernel_capacity=600 \
+		--param scene_change=0.25 --param scale=0.75 --out runs/panorama $(DOCS)
+	$(VENV)/bin/placeclust bench $(PANORAMA_TOURS) --out runs/defaults $(DOCS)
+	$(VENV)/bin/placeclust bench --quick $(DOCS)
+	$(PY) -m placeclust.benchmark latency $(DOCS)
+	$(PY) -m envs.benchmark $(DOCS)
+	$(PY) -m train.evaluate --agent all --episodes 50 --seed 1000 $(DOCS)
+	$(PY) -m train.evaluate --agent all --episodes 50 --seed 1000 $(DOCS) \
+		--config train/hyperparams/ppo_proximity.yml --policies assets/policies/proximity
+	$(PY) -m train.evaluate --agent all --episodes 50 --seed 1000 $(DOCS) \
+		--config train/hyperparams/ppo_corridor.yml --policies assets/policies/corridor
+
+# the benchmark matrix (envs/bench.py): results.csv, results.md, precision.png, latency.png
 bench-quick: $(VENV)/.installed
 	$(VENV)/bin/placeclust bench --quick
 

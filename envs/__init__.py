@@ -3,6 +3,19 @@
 Importing this package registers ``PlaceNav-v0`` and ``PlaceNav-ReachRoom-v0`` and, unless the
 user has chosen a backend, selects MuJoCo's headless EGL renderer (``MUJOCO_GL=egl``), which
 must happen before ``mujoco`` is imported anywhere.
+
+In a clone this package is ``envs``; a wheel installs it as ``placeclust_envs`` (a top-level
+``envs`` would shadow the PyPI package of that name). Every import inside it is relative, so
+the code is the same under either name; ``gym.make(f"{envs.__name__}:PlaceNav-v0")`` names it
+for spawned workers either way.
+
+Examples:
+    >>> import gymnasium as gym
+    >>> env = gym.make("PlaceNav-v0", panorama_width=64, panorama_height=16)
+    >>> obs, info = env.reset(seed=0)
+    >>> obs["panorama"].shape, info["room_name"]
+    ((16, 64, 3), 'toilet')
+    >>> env.close()
 """
 
 import os
@@ -12,21 +25,16 @@ os.environ.setdefault("MUJOCO_GL", "egl")
 if os.environ["MUJOCO_GL"] in ("egl", "osmesa"):
     os.environ.setdefault("PYOPENGL_PLATFORM", os.environ["MUJOCO_GL"])
 
-from gymnasium.envs.registration import register  # noqa: E402
+from gymnasium.envs.registration import register, registry  # noqa: E402
 
-from envs.place_id import PlaceIdWrapper  # noqa: E402
-from envs.place_nav import PlaceNavEnv  # noqa: E402
-from envs.reach_room import ReachRoomEnv  # noqa: E402
+from .place_id import PlaceIdWrapper  # noqa: E402
+from .place_nav import PlaceNavEnv  # noqa: E402
+from .reach_room import ReachRoomEnv  # noqa: E402
 
-register(
-    id="PlaceNav-v0",
-    entry_point="envs.place_nav:PlaceNavEnv",
-    max_episode_steps=500,
-)
-register(
-    id="PlaceNav-ReachRoom-v0",
-    entry_point="envs.reach_room:ReachRoomEnv",
-    max_episode_steps=300,
-)
+# One registration per id, whichever name (envs, placeclust_envs) imported the package first.
+for _id, _entry, _steps in (("PlaceNav-v0", "place_nav:PlaceNavEnv", 500),
+                            ("PlaceNav-ReachRoom-v0", "reach_room:ReachRoomEnv", 300)):
+    if _id not in registry:
+        register(id=_id, entry_point=f"{__name__}.{_entry}", max_episode_steps=_steps)
 
 __all__ = ["PlaceIdWrapper", "PlaceNavEnv", "ReachRoomEnv"]

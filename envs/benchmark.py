@@ -1,18 +1,20 @@
 """Simulator speed: ``python -m envs.benchmark`` prints env steps/s at two panorama sizes.
 
-One process, one env, physics plus a panorama every step, random actions; the README's figures
-come from this command.
+One process, one env, physics plus a panorama every step, random actions. With ``--docs
+docs/benchmarks.md`` it also writes its table there.
 """
 
 from __future__ import annotations
 
 import argparse
+import shlex
+import sys
 import time
 
 import gymnasium as gym
 import numpy as np
 
-import envs  # noqa: F401 - registers PlaceNav-v0
+from placeclust.docs_section import write_section
 
 
 def steps_per_second(width: int, height: int, steps: int, n_rooms: int = 4, seed: int = 0
@@ -39,12 +41,23 @@ def main(argv: list[str] | None = None) -> None:
     parser = argparse.ArgumentParser(description=__doc__)
     parser.add_argument("--steps", type=int, default=500, help="steps per timing run")
     parser.add_argument("--rooms", type=int, default=4)
+    parser.add_argument("--docs", metavar="FILE", help="also write the table into FILE's "
+                        "'simulator' section (docs/benchmarks.md)")
+    argv = sys.argv[1:] if argv is None else list(argv)
     args = parser.parse_args(argv)
     if args.steps < 1:
         parser.error(f"--steps must be positive, got {args.steps}")
-    print(f"PlaceNav-v0, {args.rooms} rooms, {args.steps} steps x 3 runs, one process")
+    lines = [f"PlaceNav-v0, {args.rooms} rooms, {args.steps} steps x 3 runs, one process, "
+             "random actions, physics and a panorama every step.", "",
+             "| panorama | steps/s |", "|---|---|"]
+    print(lines[0])
     for w, h in [(512, 128), (256, 64)]:
-        print(f"  {w}x{h}: {steps_per_second(w, h, args.steps, args.rooms):7.0f} steps/s")
+        rate = steps_per_second(w, h, args.steps, args.rooms)
+        lines.append(f"| {w}x{h} | {rate:.0f} |")
+        print(f"  {w}x{h}: {rate:7.0f} steps/s", flush=True)
+    if args.docs:
+        write_section(args.docs, "simulator", "\n".join(lines),
+                      shlex.join(["python", "-m", "envs.benchmark", *argv]))
 
 
 if __name__ == "__main__":

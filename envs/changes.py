@@ -17,7 +17,7 @@ import cv2
 import mujoco
 import numpy as np
 
-from envs.layout import FloorPlan, clear_of, draw_item
+from .layout import FloorPlan, clear_of, draw_item
 
 
 @dataclass(frozen=True)

@@ -18,7 +18,7 @@ from dataclasses import replace
 
 import numpy as np
 
-from envs.layout import (
+from .layout import (
     CORRIDOR,
     MAX_ROOMS,
     ROOM_KINDS,

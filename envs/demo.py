@@ -23,12 +23,12 @@ from pathlib import Path
 import gymnasium as gym
 import numpy as np
 
-import envs  # noqa: F401 - registers PlaceNav-v0
-from envs.figures import save_confusion, save_panoramas, save_place_map, save_tour_gif
-from envs.floorplan import save_floor_plan
-from envs.layout import FloorPlan
-from envs.tour import Tour, drive_tour
 from placeclust import PANORAMA
+
+from .figures import save_confusion, save_panoramas, save_place_map, save_tour_gif
+from .floorplan import save_floor_plan
+from .layout import FloorPlan
+from .tour import Tour, drive_tour
 
 
 def record_tour(scene_seed: int, n_rooms: int, steps: int, seed: int = 0, width: int = 512,
@@ -51,8 +51,9 @@ def record_tour(scene_seed: int, n_rooms: int, steps: int, seed: int = 0, width:
 def run_demo(out: str, scene_seed: int = 0, n_rooms: int = 4, steps: int = 1000,
              seed: int = 0) -> dict[str, dict[str, float]]:
     """Run the main job and write the report folder ``out``; returns the metrics table."""
-    from placeclust.cli import format_table
     from placeclust.runner import evaluate, run
+
+    from .bench_report import format_table
 
     if steps < 1:
         raise ValueError(f"steps must be positive, got {steps}")

@@ -12,9 +12,9 @@ import matplotlib.pyplot as plt  # noqa: E402
 import networkx as nx  # noqa: E402
 import numpy as np  # noqa: E402
 
-from envs.floorplan import draw_floor_plan  # noqa: E402
-from envs.layout import FloorPlan  # noqa: E402
-from envs.tour import Tour  # noqa: E402
+from .floorplan import draw_floor_plan  # noqa: E402
+from .layout import FloorPlan  # noqa: E402
+from .tour import Tour  # noqa: E402
 
 
 def save_place_map(plan: FloorPlan, poses: np.ndarray, places: np.ndarray, path: str,

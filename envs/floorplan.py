@@ -10,7 +10,7 @@ import numpy as np  # noqa: E402
 from matplotlib.axes import Axes  # noqa: E402
 from matplotlib.patches import Rectangle  # noqa: E402
 
-from envs.layout import FloorPlan  # noqa: E402
+from .layout import FloorPlan  # noqa: E402
 
 
 def draw_floor_plan(ax: Axes, plan: FloorPlan, room_colors: bool = True) -> None:

@@ -21,10 +21,10 @@ from pathlib import Path
 import gymnasium as gym
 import numpy as np
 
-import envs  # noqa: F401 - registers PlaceNav-v0
-from envs.tour import tour_steps
 from placeclust.metrics import score
 from placeclust.online import OnlinePlaceClustering
+
+from .tour import tour_steps
 
 
 def resident_mb() -> float:

@@ -63,21 +63,18 @@ class PlaceIdWrapper(gym.ObservationWrapper, gym.utils.RecordConstructorArgs):
             recognizer's ``localize_one``).
         reset_map: start every episode from the map the wrapper was given (a copy of it)
             instead of keeping what was learned.
-        timing: report ``place_ms`` in ``info``. Timings differ from run to run, so
-            Gymnasium's ``check_env`` (which demands identical ``info`` for identical seeds)
-            needs ``timing=False``.
 
-    ``info`` gains ``place_id`` (the recognizer's raw answer, -1 for unknown), ``n_places``,
-    ``map_full`` and ``place_ms`` (the recognizer's time on this step, ms, unless
-    ``timing=False``). The topological graph is :attr:`graph`.
+    ``info`` gains ``place_id`` (the recognizer's raw answer, -1 for unknown), ``n_places`` and
+    ``map_full``: all deterministic, so two identically seeded envs give identical ``info``.
+    The recognizer's time on the last step (ms) is :attr:`place_ms`, kept out of ``info``
+    because it differs from run to run. The topological graph is :attr:`graph`.
     """
 
     def __init__(self, env: gym.Env, recognizer: Recognizer | None = None, max_places: int = 64,
-                 one_hot: bool = False, learn: bool = True, reset_map: bool = False,
-                 timing: bool = True) -> None:
+                 one_hot: bool = False, learn: bool = True, reset_map: bool = False) -> None:
         gym.utils.RecordConstructorArgs.__init__(
             self, recognizer=recognizer, max_places=max_places, one_hot=one_hot, learn=learn,
-            reset_map=reset_map, timing=timing)
+            reset_map=reset_map)
         gym.ObservationWrapper.__init__(self, env)
         space = env.observation_space
         if not isinstance(space, spaces.Dict) or "panorama" not in space.spaces:
@@ -96,7 +93,7 @@ class PlaceIdWrapper(gym.ObservationWrapper, gym.utils.RecordConstructorArgs):
         self.unknown = max_places
         self.one_hot = one_hot
         self.learn = learn
-        self.timing = timing
+        self.place_ms = 0.0
         self.observation_space = spaces.Dict(
             {**space.spaces, "place_id": _place_space(max_places + 1, one_hot)})
         self._last: dict[str, Any] = {}
@@ -129,8 +126,7 @@ class PlaceIdWrapper(gym.ObservationWrapper, gym.utils.RecordConstructorArgs):
         self._last = {"place_id": int(raw), "n_places": self.recognizer.n_places,
                       "map_full": bool(raw >= self.max_places
                                        or getattr(self.recognizer, "map_full", False))}
-        if self.timing:
-            self._last["place_ms"] = 1000.0 * (time.perf_counter() - start)
+        self.place_ms = 1000.0 * (time.perf_counter() - start)
         return {**observation, "place_id": _encode(value, self.max_places + 1, self.one_hot)}
 
 

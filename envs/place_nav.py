@@ -10,15 +10,15 @@ import mujoco
 import numpy as np
 from gymnasium import spaces
 
-from envs.changes import Changes, degrade
-from envs.layout import FloorPlan
-from envs.panorama import PanoramaGeometry
-from envs.rendering import SceneRenderer
-from envs.robot import MAX_RANGE, MAX_SPEED, MAX_TURN, N_RANGES, Robot, check_action
-from envs.scene import LIGHTING, Scene, build_scene
+from .changes import Changes, degrade
+from .layout import FloorPlan
+from .panorama import PanoramaGeometry
+from .rendering import SceneRenderer
+from .robot import MAX_RANGE, MAX_SPEED, MAX_TURN, N_RANGES, Robot, check_action
+from .scene import LIGHTING, Scene, build_scene
 
 
-class PlaceNavEnv(gym.Env):
+class PlaceNavEnv(gym.Env, gym.utils.EzPickle):
     """A differential-drive robot explores a building of named, textured rooms.
 
     The building (rooms, doors, textures, furniture) is fixed by ``scene_seed`` at construction;
@@ -84,6 +84,9 @@ class PlaceNavEnv(gym.Env):
     ``reset(options=...)`` accepts ``{"pose": (x, y, heading)}`` or ``{"room": name}`` to choose
     the start.
 
+    ``pickle`` and ``copy.deepcopy`` rebuild the env from its constructor arguments
+    (``gymnasium.utils.EzPickle``): the copy is a fresh env, to be reset before use.
+
     ## Version History
     - v0: first version.
     """
@@ -110,6 +113,10 @@ class PlaceNavEnv(gym.Env):
         changes_seed: int = 0,
         layout: str = "grid",
     ) -> None:
+        # pickle and deepcopy rebuild the env from these arguments (a MjSpec cannot be pickled),
+        # as Gymnasium's MuJoCo envs do: the copy is a fresh env that needs a reset
+        gym.utils.EzPickle.__init__(self, **{k: v for k, v in locals().items()
+                                             if k not in ("self", "__class__")})
         if render_mode is not None and render_mode not in self.metadata["render_modes"]:
             raise ValueError(f"render_mode must be one of {self.metadata['render_modes']} or None, "
                              f"got {render_mode!r}")

@@ -5,13 +5,14 @@ from __future__ import annotations
 import math
 from typing import Any
 
+import gymnasium as gym
 import mujoco
 import networkx as nx
 import numpy as np
 from gymnasium import spaces
 
-from envs.layout import FloorPlan
-from envs.place_nav import PlaceNavEnv
+from .layout import FloorPlan
+from .place_nav import PlaceNavEnv
 
 
 def door_distances(plan: FloorPlan, goal: int) -> dict[int, float]:
@@ -69,6 +70,10 @@ class ReachRoomEnv(PlaceNavEnv):
                  success_reward: float = 10.0, step_cost: float = 0.01, shaping: float = 1.0,
                  **kwargs: Any) -> None:
         super().__init__(**kwargs)
+        # a copy is rebuilt with this class's arguments too, not only PlaceNavEnv's
+        gym.utils.EzPickle.__init__(self, goal=goal, goal_panorama=goal_panorama,
+                                    success_reward=success_reward, step_cost=step_cost,
+                                    shaping=shaping, **kwargs)
         self.fixed_goal = None if goal is None else self.plan.room_by_name(goal).id
         self.with_goal_panorama = goal_panorama
         if goal_panorama and not self.with_panorama:

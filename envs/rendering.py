@@ -22,7 +22,7 @@ import cv2
 import mujoco
 import numpy as np
 
-from envs.panorama import PanoramaGeometry
+from .panorama import PanoramaGeometry
 
 _HIDDEN_GROUP = 5  # MjvOption.geomgroup[5] is off: geoms moved here are not drawn
 

@@ -16,11 +16,11 @@ from dataclasses import dataclass
 import mujoco
 import numpy as np
 
-from envs import textures
-from envs.changes import Changes, rearrange_furniture, swap_posters
-from envs.corridor import corridor_floor_plan
-from envs.layout import WALL_THICKNESS, FloorPlan, Room, Wall, generate_floor_plan
-from envs.robot import MAX_RANGE, N_RANGES, RADIUS
+from . import textures
+from .changes import Changes, rearrange_furniture, swap_posters
+from .corridor import corridor_floor_plan
+from .layout import WALL_THICKNESS, FloorPlan, Room, Wall, generate_floor_plan
+from .robot import MAX_RANGE, N_RANGES, RADIUS
 
 WALL_HEIGHT = 2.2
 CAMERA_HEIGHT = 1.0
@@ -107,7 +107,7 @@ def build_scene(
 
 def _setup_visual(spec: mujoco.MjSpec, plan: FloorPlan, lighting: str) -> None:
     q = spec.visual.quality
-    q.shadowsize = 0  # shadows and multisampling cost ~20x in software GL (see README)
+    q.shadowsize = 0  # shadows and multisampling cost ~20x in software GL
     q.offsamples = 0
     cond = _LIGHTS[lighting]
     hl = spec.visual.headlight

@@ -17,7 +17,10 @@ from pathlib import Path
 import cv2
 import numpy as np
 
-ASSETS = Path(__file__).resolve().parent.parent / "assets"
+# In a clone (and an editable install) the assets are the repository's top-level folder; a wheel
+# installs them as this package's data (pyproject.toml maps assets/ to placeclust_envs/assets/).
+_HERE = Path(__file__).resolve().parent
+ASSETS = _HERE / "assets" if (_HERE / "assets").is_dir() else _HERE.parent / "assets"
 TEX = 256  # side of wall/floor textures, pixels
 
 Color = tuple[int, int, int]

@@ -17,7 +17,9 @@ import gymnasium as gym
 import networkx as nx
 import numpy as np
 
-from envs.layout import FloorPlan
+from placeclust.progress import progress as progress_bar
+
+from .layout import FloorPlan
 
 
 @dataclass
@@ -167,7 +169,7 @@ def drive_tour(env: gym.Env, steps: int, seed: int = 0, progress: bool = False) 
         The recorded :class:`Tour`; frame ``t`` is the observation after ``t`` steps.
     """
     frames = rooms = poses = None
-    bar = _progress_bar(steps, progress)
+    bar = progress_bar(total=steps, enabled=progress, desc="tour", unit="frame")
     for t, (obs, info) in enumerate(tour_steps(env, steps, seed)):
         if frames is None:
             frames = np.empty((steps, *obs["panorama"].shape), np.uint8)
@@ -177,8 +179,3 @@ def drive_tour(env: gym.Env, steps: int, seed: int = 0, progress: bool = False) 
     bar.close()
     return Tour(frames, rooms, poses, [r.name for r in env.unwrapped.plan.rooms])
 
-
-def _progress_bar(total: int, enabled: bool):
-    from tqdm import tqdm
-
-    return tqdm(total=total, disable=not enabled, desc="tour", unit="frame")

@@ -12,4 +12,4 @@ keep_frame_buffers()
 from placeclust.online import PANORAMA, UNKNOWN, OnlinePlaceClustering  # noqa: E402
 
 __all__ = ["PANORAMA", "UNKNOWN", "OnlinePlaceClustering"]
-__version__ = "0.9.0"
+__version__ = "0.10.0"

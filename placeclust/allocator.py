@@ -3,12 +3,9 @@
 Every frame, SIFT builds an image pyramid of ~1 MB float layers (OpenCV doubles a 512x128 frame
 to 1024x256 for its first octave) and the matcher a ~2 MB similarity matrix, then frees them.
 With glibc's defaults a block over 128 KiB is served by ``mmap`` and freed heap tops over
-128 KiB go back to the OS, so these buffers are mapped, page-faulted and zeroed anew each frame.
-Measured on 300 simulator panoramas (512x128) on the 2-core machine of the README: SIFT
-detection 16.8 ms per frame with the defaults, 9.5-11.5 ms with the settings below; the online
-recognizer's median frame 23.0 -> 14.9 ms. glibc raises these thresholds by itself after the
-first large ``free`` of an mmapped block, which is why a process that had built a simulated
-world first (as ``make demo`` does) was already fast: this starts every process there.
+128 KiB go back to the OS, so these buffers are mapped, page-faulted and zeroed anew each frame,
+which slows SIFT detection markedly. glibc raises these thresholds by itself after the first
+large ``free`` of an mmapped block; this starts every process there.
 
 The cost is memory the process keeps instead of returning: up to ``TRIM_THRESHOLD`` of free
 heap. A user's own ``MALLOC_*_`` environment variables or ``glibc.malloc`` tunables win: then
@@ -31,7 +28,15 @@ _USER_SETTINGS = ("MALLOC_MMAP_THRESHOLD_", "MALLOC_TRIM_THRESHOLD_", "MALLOC_TO
 
 
 def user_has_malloc_settings(environ: Mapping[str, str] = os.environ) -> bool:
-    """Whether ``environ`` sets glibc malloc parameters of its own."""
+    """Whether ``environ`` sets glibc malloc parameters of its own.
+
+    Examples:
+        >>> from placeclust.allocator import user_has_malloc_settings
+        >>> user_has_malloc_settings({"GLIBC_TUNABLES": "glibc.malloc.trim_threshold=0"})
+        True
+        >>> user_has_malloc_settings({})
+        False
+    """
     return (any(name in environ for name in _USER_SETTINGS)
             or "glibc.malloc." in environ.get("GLIBC_TUNABLES", ""))
 
@@ -50,6 +55,13 @@ def keep_frame_buffers(environ: Mapping[str, str] = os.environ) -> bool:
     Returns:
         True if the settings were applied; False on a C library other than glibc or when
         ``environ`` holds the user's own malloc settings.
+
+    Examples:
+        The user's own settings win:
+
+        >>> from placeclust.allocator import keep_frame_buffers
+        >>> keep_frame_buffers({"MALLOC_MMAP_THRESHOLD_": "131072"})
+        False
     """
     if not is_glibc() or user_has_malloc_settings(environ):
         return False

@@ -1,7 +1,7 @@
 """Atomic file writes: a reader, or a process killed mid-write, sees the old file or the new one.
 
-Map files (:mod:`placeclust.mapfile`) and the benchmark's run store (:mod:`placeclust.bench`)
-both write this way.
+Map files (:mod:`placeclust.mapfile`) and the benchmark's run store (``envs/bench.py``) both
+write this way.
 """
 
 from __future__ import annotations
@@ -24,6 +24,15 @@ def write_atomic(path: str | os.PathLike, write: Callable[[BinaryIO], object]) -
     Returns:
         The path written. If ``write`` or the rename fails, the exception propagates, the old
         file is untouched and no temporary file is left.
+
+    Examples:
+        >>> import tempfile
+        >>> from pathlib import Path
+        >>> from placeclust.atomic import write_atomic
+        >>> with tempfile.TemporaryDirectory() as folder:
+        ...     path = write_atomic(Path(folder) / "note.txt", lambda f: f.write(b"hello"))
+        ...     print(path.read_bytes(), sorted(p.name for p in Path(folder).iterdir()))
+        b'hello' ['note.txt']
     """
     path = Path(path)
     fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent)

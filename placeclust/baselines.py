@@ -21,7 +21,18 @@ from placeclust.matching import dice_eq4, normalize, ratio_matches
 
 
 def describe_all(frames: np.ndarray, extractor: FeatureExtractor) -> list[np.ndarray]:
-    """Normalised descriptors of every frame of a sequence."""
+    """Normalised descriptors of every frame of a sequence.
+
+    Args:
+        frames: (T, H, W[, C]) images.
+        extractor: the local features to compute.
+
+    Returns:
+        One (N_t, D) array per frame (see :func:`~placeclust.matching.normalize`).
+
+    Raises:
+        ValueError: ``frames`` is not a non-empty sequence of valid images.
+    """
     frames = check_sequence(frames)
     out = []
     for f in frames:
@@ -32,7 +43,18 @@ def describe_all(frames: np.ndarray, extractor: FeatureExtractor) -> list[np.nda
 
 def bag_of_words(descs: list[np.ndarray], binary: bool, n_words: int = 200,
                  seed: int = 0) -> np.ndarray:
-    """(T, n_words) L2-normalised tf-idf histograms over a vocabulary learnt from ``descs``."""
+    """(T, n_words) L2-normalised tf-idf histograms over a vocabulary learnt from ``descs``.
+
+    Args:
+        descs: one (N_t, D) descriptor array per frame (:func:`describe_all`).
+        binary: binary descriptors are unpacked to bits before clustering.
+        n_words: vocabulary size (fewer if there are fewer sampled features).
+        seed: seeds the feature sample and the vocabulary's mini-batch k-means.
+
+    Returns:
+        One unit-L2 row per frame (all zeros for a frame without features or whose words
+        occur in every frame).
+    """
     def as_float(d: np.ndarray) -> np.ndarray:
         return np.unpackbits(d, axis=1).astype(np.float32) if binary else d
 
@@ -56,6 +78,10 @@ def consecutive_similarity(descs: list[np.ndarray], binary: bool) -> np.ndarray:
 
     Eq. 4 rather than Eq. 1: every feature has *some* nearest neighbour, so Eq. 1 barely dips
     at a scene change, while the share of unambiguous matches drops sharply.
+
+    Args:
+        descs: one descriptor array per frame (:func:`describe_all`).
+        binary: Hamming (True) or Euclidean (False) descriptors.
     """
     return np.array([dice_eq4(len(ratio_matches(a, b, binary)[0]), len(b), len(a))
                      for a, b in zip(descs[:-1], descs[1:])])
@@ -64,9 +90,28 @@ def consecutive_similarity(descs: list[np.ndarray], binary: bool) -> np.ndarray:
 def scene_changes(descs: list[np.ndarray], binary: bool, window: int = 15) -> np.ndarray:
     """Frame indices where a new scene starts (Sec. III.C, step 1).
 
-    Local minima of the neighbouring-image similarity, at least ``window`` frames apart, that
-    fall a standard deviation below its smoothed level (smoothing only the level: smoothing the
-    curve itself would shift the minima).
+    Local minima of the neighbouring-image similarity (:func:`consecutive_similarity`), at
+    least ``window`` frames apart, that fall a standard deviation below its smoothed level
+    (smoothing only the level: smoothing the curve itself would shift the minima).
+
+    Args:
+        descs: one descriptor array per frame (:func:`describe_all`).
+        binary: Hamming (True) or Euclidean (False) descriptors.
+        window: the fewest frames between two scene changes.
+
+    Returns:
+        The indices of the first frames of new scenes, int64, in increasing order.
+
+    Examples:
+        >>> from placeclust.synthetic import places
+        >>> frames, truth = places(4)
+        >>> from placeclust.baselines import describe_all, estimate_k, scene_changes
+        >>> from placeclust.features import FeatureExtractor
+        >>> descs = describe_all(frames, FeatureExtractor())
+        >>> scene_changes(descs, binary=False, window=2).tolist()
+        [4]
+        >>> estimate_k(descs, binary=False, window=2)
+        2
     """
     if len(descs) < 3:
         return np.zeros(0, np.int64)
@@ -77,7 +122,16 @@ def scene_changes(descs: list[np.ndarray], binary: bool, window: int = 15) -> np
 
 
 def estimate_k(descs: list[np.ndarray], binary: bool, window: int = 15) -> int:
-    """Number of places from scene-change detection: segments between changes."""
+    """Number of places from scene-change detection: segments between changes.
+
+    Args:
+        descs: one descriptor array per frame (:func:`describe_all`).
+        binary: Hamming (True) or Euclidean (False) descriptors.
+        window: the fewest frames between two scene changes (:func:`scene_changes`).
+
+    Returns:
+        One more than the number of scene changes.
+    """
     return int(len(scene_changes(descs, binary, window)) + 1)
 
 
@@ -88,10 +142,23 @@ class KMeansPlaces:
         features: local feature type.
         n_clusters: places; ``None`` estimates them by scene-change detection.
         n_words: vocabulary size.
+        max_features: features per frame.
         seed: seeds the vocabulary and k-means.
         normalize: contrast normalization (:class:`~placeclust.features.FeatureExtractor`).
         scale: resize factor before detection (:class:`~placeclust.features.FeatureExtractor`).
         view: ``"full"`` or ``"sides"`` of a panorama (:data:`~placeclust.features.VIEWS`).
+
+    Examples:
+        Four views of one synthetic place, then four of another; the cluster ids are
+        arbitrary, the partition is not:
+
+        >>> from placeclust.synthetic import places
+        >>> frames, truth = places(4)
+        >>> from placeclust.baselines import KMeansPlaces
+        >>> model = KMeansPlaces(n_clusters=2, max_features=100, n_words=100)
+        >>> labels = model.fit_predict(frames)
+        >>> (labels == labels[0]).tolist()
+        [True, True, True, True, False, False, False, False]
     """
 
     def __init__(self, features: str = "sift", n_clusters: int | None = None,
@@ -115,14 +182,33 @@ class KMeansPlaces:
         return bag_of_words(descs, ext.binary, self.n_words, self.seed), min(k, len(frames))
 
     def fit_predict(self, frames: np.ndarray) -> np.ndarray:
-        """Place id per frame, (T,) int."""
+        """Cluster a whole sequence.
+
+        Args:
+            frames: (T, H, W[, C]) images.
+
+        Returns:
+            Place id per frame, (T,) int.
+        """
         x, k = self._prepare(frames)
         return KMeans(n_clusters=k, n_init=10, random_state=self.seed).fit_predict(x)
 
 
 class WPGMAPlaces(KMeansPlaces):
-    """WPGMA agglomerative clustering (scipy's ``weighted`` linkage) of bag-of-words vectors,
-    with cosine distances, cut into ``n_clusters`` clusters."""
+    """WPGMA agglomerative clustering of bag-of-words vectors, the other baseline of Fig. 2.
+
+    SciPy's ``weighted`` linkage with cosine distances, cut into ``n_clusters`` clusters; the
+    arguments are those of :class:`KMeansPlaces`.
+
+    Examples:
+        >>> from placeclust.synthetic import places
+        >>> frames, truth = places(4)
+        >>> from placeclust.baselines import WPGMAPlaces
+        >>> model = WPGMAPlaces(n_clusters=2, max_features=100, n_words=100)
+        >>> labels = model.fit_predict(frames)
+        >>> (labels == labels[0]).tolist()
+        [True, True, True, True, False, False, False, False]
+    """
 
     def fit_predict(self, frames: np.ndarray) -> np.ndarray:
         x, k = self._prepare(frames)

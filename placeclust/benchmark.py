@@ -6,13 +6,14 @@ It needs no simulator: it grows a map of synthetic places and times the online r
 each size on frames it tracks (the current place) and on frames of a random earlier place (a
 loop closure through the relocalization index), and apart from the whole frame, the
 recognizer's own work: the frame less its feature detection, which does not depend on the map.
-Quality on simulated tours is ``placeclust bench`` (:mod:`placeclust.bench`), which also runs
-this sweep for its plot.
+Quality on simulated tours is ``placeclust bench`` (``envs/bench.py``), which also runs this
+sweep for its plot.
 """
 
 from __future__ import annotations
 
 import argparse
+import shlex
 import sys
 import time
 
@@ -73,8 +74,23 @@ def latency_vs_map_size(features: str, sizes: list[int], probes: int = 30, seed:
     ``probes`` frames of the current place and ``probes`` revisits of random earlier places are
     timed (they may update kernels, as in real use, but open no place). Every revisit starts
     from the newest place and its graph as they were: otherwise the loop-closure edges of the
-    probes themselves would give the current place of a 10-place map 7 neighbours to check and
-    that of a 500-place map 3, and the sizes would not be compared on the same search.
+    probes themselves would give the current place more neighbours to check on a small map than
+    on a large one, and the sizes would not be compared on the same search.
+
+    Args:
+        features: local feature type.
+        sizes: map sizes, in places, at which to time.
+        probes: frames timed per size, for tracking and for loop closures each.
+        seed: draws the probes' jitter and the revisited places.
+
+    Returns:
+        One row per size: ``features``, ``places`` and :data:`TIMINGS`.
+
+    Examples:
+        >>> from placeclust.benchmark import TIMINGS, latency_vs_map_size
+        >>> rows = latency_vs_map_size("orb", [2, 3], probes=2)
+        >>> [row["places"] for row in rows], all(key in rows[0] for key in TIMINGS)
+        ([2, 3], True)
     """
     rng = np.random.default_rng(seed)
     model = OnlinePlaceClustering(features)
@@ -102,6 +118,9 @@ def best_of_sweeps(features: str, sizes: list[int], repeats: int = 3
     ``<timing>_max`` the highest. A shared machine slows down for seconds at a time, so one
     sweep can find one size slow; the sweeps lie half a minute apart, and the lowest figure is
     the machine's own speed (as ``timeit`` takes the best of its runs).
+
+    Raises:
+        ValueError: ``repeats`` is below 1.
     """
     if repeats < 1:
         raise ValueError(f"repeats must be at least 1, got {repeats}")
@@ -141,19 +160,28 @@ def main(argv: list[str] | None = None) -> int:
     lat.add_argument("--sizes", nargs="+", type=int, default=[10, 50, 100, 250, 500])
     lat.add_argument("--repeats", type=int, default=3,
                      help="sweeps, each on a fresh map; the lowest median per size is reported")
+    lat.add_argument("--docs", metavar="FILE", help="also write the table into FILE's "
+                     "'latency' section (docs/benchmarks.md)")
+    argv = sys.argv[1:] if argv is None else list(argv)
     args = p.parse_args(argv)
     if min(args.sizes) < 2:
         p.error("--sizes must be at least 2 places")
     if args.repeats < 1:
         p.error("--repeats must be at least 1")
-    print(f"median ms per frame over 30 frames, lowest (highest) of {args.repeats} sweeps; "
-          "own: the recognizer's part of a frame, its detection taken out\n")
-    print("| features | places | tracking ms | loop closure ms | detection ms | "
-          "own ms: tracking / loop closure |")
-    print("|---|---|---|---|---|---|")
+    lines = [f"Median ms per frame over 30 frames, lowest (highest) of {args.repeats} sweeps; "
+             "own: the recognizer's part of a frame, its detection taken out.", "",
+             "| features | places | tracking ms | loop closure ms | detection ms | "
+             "own ms: tracking / loop closure |", "|---|---|---|---|---|---|"]
+    print("\n".join(lines), flush=True)
     for feat in args.features:
         for line in _table(feat, best_of_sweeps(feat, args.sizes, args.repeats)):
+            lines.append(line)
             print(line, flush=True)
+    if args.docs:
+        from placeclust.docs_section import write_section
+
+        write_section(args.docs, "latency", "\n".join(lines),
+                      shlex.join(["python", "-m", "placeclust.benchmark", *argv]))
     return 0
 
 

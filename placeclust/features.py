@@ -13,10 +13,9 @@ Each extractor keeps at most ``max_features`` keypoints (strongest response firs
 size and the matching cost stay bounded.
 
 Frames can be resized by ``scale`` before detection (keypoint coordinates are given back in
-the frame's pixels). OpenCV's SIFT doubles its input for its first octave, so on simulator
-panoramas ``scale=0.75`` (384x96) still yields ~470 of the 500 features of a 512x128 frame, in
-7.6-8.3 instead of 9.5-11.5 ms (README, "Measured figures"); :data:`placeclust.PANORAMA` uses
-it.
+the frame's pixels). OpenCV's SIFT doubles its input for its first octave, so a 0.75 copy of a
+simulator panorama still yields nearly all its features, faster; :data:`placeclust.PANORAMA`
+uses it.
 
 On 360° panoramas ``view="sides"`` keeps only the keypoints seen at the robot's left and right
 (see :data:`VIEWS`): a sideways view changes room as the robot passes the door.
@@ -73,6 +72,9 @@ def _cv2_factory(name: str):
 class FeatureExtractor:
     """Detects keypoints and computes descriptors with one of :data:`FEATURES`.
 
+    The one interface behind which every recognizer gets its local features: seed 000 uses
+    SURF-64, seed 001 SIFT (Sec. 3.1).
+
     Args:
         name: feature type.
         max_features: keep the strongest ``max_features`` keypoints.
@@ -83,6 +85,29 @@ class FeatureExtractor:
         scale: resize factor in (0, 1] applied before detection (``cv2.INTER_AREA``); smaller
             is faster and finds fewer, coarser keypoints.
         view: which keypoints to keep, one of :data:`VIEWS`.
+
+    Raises:
+        ValueError: an unknown ``name``, ``normalize`` or ``view``, ``max_features`` below 1,
+            ``scale`` outside (0, 1], or a feature type this OpenCV build lacks.
+
+    Examples:
+        >>> from placeclust.features import FeatureExtractor
+        >>> from placeclust.frames import to_gray
+        >>> from placeclust.synthetic import textured
+        >>> gray = to_gray(textured(0))
+        >>> feats = FeatureExtractor("sift", max_features=50).extract(gray)
+        >>> len(feats), feats.xy.shape, feats.descriptors.shape, feats.binary
+        (50, (50, 2), (50, 128), False)
+        >>> orb = FeatureExtractor("orb", max_features=50).extract(gray)
+        >>> orb.descriptors.dtype, orb.descriptors.shape[1], orb.binary
+        (dtype('uint8'), 32, True)
+
+        ``view="sides"`` keeps a subset of the whole frame's keypoints, at the cost of one
+        detection:
+
+        >>> view, whole = FeatureExtractor("orb", 50, view="sides").extract_pair(gray)
+        >>> len(view) < len(whole)
+        True
     """
 
     def __init__(self, name: str = "sift", max_features: int = 500,
@@ -123,14 +148,27 @@ class FeatureExtractor:
         self.__init__(**state)
 
     def extract(self, gray: np.ndarray) -> Features:
-        """Features of a 2-D uint8 image (see :func:`placeclust.frames.to_gray`) in this
-        extractor's ``view``; keypoint coordinates are in ``gray``'s pixels whatever ``scale``."""
+        """Features of one image in this extractor's ``view``.
+
+        Args:
+            gray: 2-D uint8 image (see :func:`placeclust.frames.to_gray`).
+
+        Returns:
+            The strongest ``max_features`` features at most; keypoint coordinates are in
+            ``gray``'s pixels whatever ``scale``.
+        """
         return self.extract_pair(gray)[0]
 
     def extract_pair(self, gray: np.ndarray) -> tuple[Features, Features]:
-        """``(view, whole)``: the features of :meth:`extract` and those of the whole frame
-        they were selected from (the same object when ``view="full"``), at the cost of one
-        detection."""
+        """The features of :meth:`extract` and those of the whole frame, from one detection.
+
+        Args:
+            gray: 2-D uint8 image.
+
+        Returns:
+            ``(view, whole)``: the features in ``view`` and the whole frame's features they
+            were selected from (the same object when ``view="full"``).
+        """
         width = gray.shape[1]
         if self.scale != 1.0:
             h, w = gray.shape
@@ -159,7 +197,7 @@ class FeatureExtractor:
             order = np.argsort([-k.response for k in kps])[: self.max_features]
             kps = [kps[i] for i in order]
             desc = desc[order]
-        xy = cv2.KeyPoint_convert(kps).reshape(-1, 2)  # C++ side: 0.004 vs 0.1 ms per frame
+        xy = cv2.KeyPoint_convert(kps).reshape(-1, 2)  # on the C++ side, not a Python loop
         desc = desc if self.binary else np.asarray(desc, np.float32)
         return Features(xy, np.ascontiguousarray(desc), self.binary)
 

@@ -19,6 +19,17 @@ def to_gray(frame: np.ndarray) -> np.ndarray:
     Raises:
         ValueError: wrong type, shape, channel count or dtype, NaN/inf values, float values
             outside [0, 1], or an image smaller than 16x16.
+
+    Examples:
+        >>> import numpy as np
+        >>> from placeclust.frames import to_gray
+        >>> gray = to_gray(np.ones((32, 48, 3), np.float32))
+        >>> gray.shape, gray.dtype, int(gray.max())
+        ((32, 48), dtype('uint8'), 255)
+        >>> to_gray(np.zeros((8, 8), np.uint8))
+        Traceback (most recent call last):
+            ...
+        ValueError: frame of shape (8, 8) is too small; need at least 16x16
     """
     if not isinstance(frame, np.ndarray):
         raise ValueError(f"frame must be a numpy array, got {type(frame).__name__}")
@@ -47,6 +58,13 @@ def to_gray(frame: np.ndarray) -> np.ndarray:
 def check_size(gray: np.ndarray, expected: tuple[int, int] | None) -> tuple[int, int]:
     """The size a map is built from: ``expected``, or ``gray``'s for the first frame.
 
+    Args:
+        gray: a 2-D image from :func:`to_gray`.
+        expected: the map's frame size, or ``None`` before its first frame.
+
+    Returns:
+        ``(H, W)``, the size every later frame must have.
+
     Raises:
         ValueError: ``gray`` has another size than the frames the map was built from.
     """
@@ -57,7 +75,14 @@ def check_size(gray: np.ndarray, expected: tuple[int, int] | None) -> tuple[int,
 
 
 def check_sequence(frames: np.ndarray) -> np.ndarray:
-    """Validate a sequence ``(T, H, W[, C])`` of frames for the offline methods."""
+    """Validate a sequence ``(T, H, W[, C])`` of frames for the offline methods.
+
+    Returns:
+        ``frames`` itself.
+
+    Raises:
+        ValueError: ``frames`` is not a 3-D or 4-D array, or is empty.
+    """
     if not isinstance(frames, np.ndarray) or frames.ndim not in (3, 4):
         shape = getattr(frames, "shape", None)
         raise ValueError(f"frames must be an array (T, H, W[, C]), got shape {shape}")

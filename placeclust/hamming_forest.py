@@ -1,15 +1,13 @@
 """Approximate nearest binary descriptor: hierarchical k-medoids trees under Hamming distance.
 
 This is FLANN's hierarchical clustering index (Muja & Lowe, "Fast Matching of Binary
-Features", CRV 2012), which :class:`~placeclust.index.PlaceIndex` used through OpenCV for ORB
-and AKAZE, compiled with numba. Each tree splits its descriptors around ``branching``
-randomly chosen descriptors (the medoids, no iteration), recursively, until a node holds at
-most ``leaf_size``; a query descends each tree to the nearest medoid at every level and
-compares the descriptors of the leaf it reaches. FLANN with 4 trees and ``checks=16`` spent its
+Features", CRV 2012), compiled with numba, for :class:`~placeclust.index.PlaceIndex` with ORB
+and AKAZE. Each tree splits its descriptors around ``branching`` randomly chosen descriptors
+(the medoids, no iteration), recursively, until a node holds at most ``leaf_size``; a query
+descends each tree to the nearest medoid at every level and compares the descriptors of the
+leaf it reaches. Every tree is searched: FLANN's own, with 4 trees and ``checks=16``, spent its
 checks in the first tree's leaf and searched no other, one query at a time through a priority
-queue: against a 500-place map (32,000 descriptors) an image's ~340 ORB features took 1.7-2.2 ms
-on one core of the README's machine, and found the true nearest's place for 25% of them. Here all 4
-trees are searched in 0.4-0.6 ms, for 51%.
+queue, so it was slower and found the true nearest less often.
 
 The trees are drawn from a seed, so the same descriptors and seed give the same index in any
 process, whatever else drew random numbers before.
@@ -146,6 +144,18 @@ class HammingForest:
         seed: draws the medoids, a non-negative integer; the same descriptors and seed give the
             same trees, and a forest of more trees holds those of fewer (tree ``t`` is drawn
             from ``seed`` and ``t`` alone), so it finds each nearest neighbour at least as well.
+
+    Raises:
+        ValueError: ``descriptors`` is empty, or a parameter is out of range.
+
+    Examples:
+        >>> import numpy as np
+        >>> from placeclust.hamming_forest import HammingForest
+        >>> data = np.random.default_rng(0).integers(0, 256, (100, 32), dtype=np.uint8)
+        >>> forest = HammingForest(data, trees=2, leaf_size=10, seed=0)
+        >>> idx, dist = forest.nearest(data[[5, 9]])
+        >>> len(forest), idx.tolist(), dist.tolist()
+        (100, [5, 9], [0, 0])
     """
 
     def __init__(self, descriptors: np.ndarray, trees: int = 4, branching: int = 32,
@@ -186,6 +196,9 @@ class HammingForest:
         Returns:
             ``(idx, dist)``, both (m,) int64: the row among the indexed descriptors and its
             Hamming distance in bits. Equal distances give the lowest row.
+
+        Raises:
+            ValueError: the query rows are not as wide as the indexed ones.
         """
         if descriptors.ndim != 2 or descriptors.shape[1] != self._nbytes:
             raise ValueError(f"query descriptors must be (m, {self._nbytes}) uint8, got "

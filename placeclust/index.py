@@ -11,8 +11,7 @@ each image feature, the place owning its nearest indexed feature.
 
 FLANN searches one query feature after another, so the features are split over OpenCV's
 threads (:func:`placeclust.threads.split_rows`; ``cv2.setNumThreads(1)`` keeps the index on one
-core too). On the 2-core machine of the README a SIFT query of a 500-place map took 4.7 against
-2.4 ms. The binary forest answers the same ORB query in ~0.4 ms on one core.
+core too). The binary forest searches on one core: it is fast enough without the split.
 """
 
 from __future__ import annotations
@@ -38,17 +37,32 @@ class PlaceIndex:
         sample: ``sample(place_id) -> descriptors`` gives a place's current top features; it is
             called when a place is added and for every place when the index is rebuilt.
         max_tail: places kept in the brute-force tail before a rebuild, once the map has
-            ``exact_below`` places. With 24 the tail of a 500-place map cost half as much as
-            the FLANN search (1.9 against 3.8 ms, SIFT); with 8 it stays under ~0.5 ms, for a
-            rebuild every 8 new places (at 500 places ~40 ms with SIFT, ~60 ms with ORB, in
-            the frame that opens the place).
+            ``exact_below`` places. A small tail keeps its brute-force search a small part of a
+            query, for a rebuild every ``max_tail`` new places (in the frame that opens the
+            place).
         exact_below: maps of fewer places are all tail, searched exactly (24 places are 1,536
             features at most). The 23-place map of the shipped policies stays exact: searched
-            through FLANN, the 0.8 m proximity agent's success fell from 0.56 to 0.52.
+            through FLANN, the 0.8 m proximity agent's success fell.
         checks: indexed features the SIFT kd-tree compares per query feature, at least one
             leaf (speed/recall trade-off).
-        trees: k-medoids trees of the binary index, one leaf searched in each (~0.2 ms a tree
-            for an ORB image at 500 places, in the loop).
+        trees: k-medoids trees of the binary index, one leaf searched in each (each tree adds
+            a leaf search to a query).
+
+    Examples:
+        Three places of eight random features each; a query made of place 2's features votes
+        for place 2:
+
+        >>> import numpy as np
+        >>> from placeclust.index import PlaceIndex
+        >>> from placeclust.matching import normalize
+        >>> rng = np.random.default_rng(0)
+        >>> places = {p: normalize(rng.normal(size=(8, 16)).astype(np.float32), binary=False)
+        ...           for p in range(3)}
+        >>> index = PlaceIndex(binary=False, sample=places.__getitem__)
+        >>> for p in places:
+        ...     index.add(p)
+        >>> len(index), index.ranked(places[2][:5]), index.votes(places[1])
+        (3, [2], {1: 8})
     """
 
     def __init__(self, binary: bool, sample: Callable[[int], np.ndarray], max_tail: int = 8,
@@ -99,25 +113,16 @@ class PlaceIndex:
         """Build the tree over ``_data``, the same tree for the same data in any process.
 
         Both trees are seeded by the number of indexed features. FLANN draws its kd-tree splits
-        from OpenCV's global RNG, so the index, and with it which places a query votes for,
-        depended on whatever the process had drawn before (``--agent all`` and ``--agent ppo``
-        scored one policy 0.86 and 0.84). The build seeds that RNG and afterwards reseeds it
-        from a number drawn from the caller's stream, so a user's own ``cv2.setRNGSeed`` still
-        gives them a reproducible sequence.
+        from OpenCV's global RNG, so otherwise the index, and with it which places a query
+        votes for, would depend on whatever the process had drawn before. The build seeds that
+        RNG and afterwards reseeds it from a number drawn from the caller's stream, so a user's
+        own ``cv2.setRNGSeed`` still gives them a reproducible sequence.
         """
-        # Measured on the 8,000-frame 12-room tour: its map, sealed whole, then 1,000 of its
-        # frames relocalized through the index with no current place, against an exhaustive
-        # search; and the loop-closure latency of `python -m placeclust.benchmark latency`.
         if self.binary:
             # ORB: 4 k-medoids trees, one leaf searched in each. FLANN's hierarchical index with
-            # the same parameters and checks=16 searched only the first tree's leaf (its checks
-            # were spent there): on a 500-place map of the benchmark its nearest feature was in
-            # the exact nearest's place for 25% of the query features against 51% here, at
-            # 1.7-2.2 against 0.4-0.6 ms. On the tour: the best place shortlisted for 978 of the
-            # 1,000 frames (FLANN: 978; 2 trees: 974; 3: 985), and 1 revisit missed while mapping (a
-            # new place opened where an old one was within the threshold; FLANN: 2; 1 tree: 10;
-            # 2 trees: 1). LSH, used before FLANN's trees, scans buckets that fill as the map
-            # grows (ORB descriptors are far from uniform): 4.8 ms.
+            # the same parameters searched only the first tree's leaf (its checks were spent
+            # there), finding the nearest feature's place less often, more slowly. LSH scans
+            # buckets that fill as the map grows (ORB descriptors are far from uniform).
             self._tree = HammingForest(self._data, trees=self.trees, branching=32,
                                        leaf_size=100, seed=len(self._data))
             return
@@ -125,9 +130,8 @@ class PlaceIndex:
         cv2.randu(carry_on, 0, np.iinfo(np.int32).max)
         cv2.setRNGSeed(len(self._data))
         try:
-            # SIFT: one randomized kd-tree, 16 checks, found the best place for 997 of the
-            # 1,000 frames (4 trees, 32 checks: 999); 500-place loop closures cost 1.1-1.6x
-            # the 10-place ones over five runs (4 trees, 32 checks: 1.85x, ~11 ms in the tree).
+            # SIFT: one randomized kd-tree with 16 checks shortlists the best place about as
+            # often as more trees and checks, and loop closures stay nearly as fast at any size.
             self._tree = cv2.flann_Index(self._data, dict(algorithm=_KDTREE, trees=1))
         finally:
             cv2.setRNGSeed(int(carry_on[0, 0]))
@@ -146,7 +150,14 @@ class PlaceIndex:
         return idx, np.sqrt(np.maximum(squared, 0))
 
     def votes(self, descriptors: np.ndarray) -> dict[int, int]:
-        """Place -> number of ``descriptors`` whose nearest indexed feature belongs to it."""
+        """Place -> number of ``descriptors`` whose nearest indexed feature belongs to it.
+
+        Args:
+            descriptors: (N, D) features of one image, unit rows if float.
+
+        Returns:
+            Votes of the places that got any.
+        """
         places, counts = self._tally(descriptors)
         return dict(zip(places.tolist(), counts.tolist()))
 

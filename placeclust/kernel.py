@@ -16,14 +16,31 @@ class UnionKernel:
     features; online, that would delete everything just added, so the kernel is instead pruned
     to its ``capacity`` heaviest features, which bounds its size and memory as the paper's
     pruning intends. Among equal weights the *oldest* (last matched longest ago) are kept:
-    keeping the newest lets a kernel drift into the next room through a doorway, which on
-    simulated 4-room tours cost up to 0.2 of clustering precision.
+    keeping the newest lets a kernel drift into the next room through a doorway.
 
     Args:
         descriptors: features of the first image (N, D).
         binary: Hamming (True) or Euclidean (False) descriptors.
         capacity: the most features the kernel keeps.
         ratio: Lowe's ratio for correspondences.
+
+    Raises:
+        ValueError: ``capacity`` is below 1.
+
+    Examples:
+        A second image sharing four of its six features with the first: the four gain weight,
+        the two others join, and the newest of them is pruned to keep ``capacity``:
+
+        >>> import numpy as np
+        >>> from placeclust.kernel import UnionKernel
+        >>> from placeclust.matching import normalize
+        >>> rng = np.random.default_rng(0)
+        >>> first = normalize(rng.normal(size=(6, 16)).astype(np.float32), binary=False)
+        >>> new = normalize(rng.normal(size=(2, 16)).astype(np.float32), binary=False)
+        >>> kernel = UnionKernel(first, binary=False, capacity=7)
+        >>> kernel.update(np.concatenate([first[:4], new]))
+        >>> len(kernel), kernel.n_images, kernel.weights.tolist()
+        (7, 2, [2.0, 2.0, 2.0, 2.0, 1.0, 1.0, 1.0])
     """
 
     def __init__(self, descriptors: np.ndarray, binary: bool, capacity: int = 1200,
@@ -43,7 +60,12 @@ class UnionKernel:
     def from_state(cls, descriptors: np.ndarray, weights: np.ndarray, last_seen: np.ndarray,
                    n_images: int, binary: bool, capacity: int = 1200, ratio: float = 0.8
                    ) -> UnionKernel:
-        """A kernel with saved features, weights and ages (for loading maps)."""
+        """A kernel with saved features, weights and ages (for loading maps).
+
+        Raises:
+            ValueError: the arrays differ in length or are empty, or the descriptors' dtype
+                does not fit ``binary``.
+        """
         n = len(descriptors)
         if n == 0 or len(weights) != n or len(last_seen) != n:
             raise ValueError(f"kernel arrays disagree: {n} descriptors, {len(weights)} weights, "

@@ -31,9 +31,24 @@ class KAdjacentUnion:
         max_iter: iterations of steps 5-7.
         kernel_stride: every ``kernel_stride``-th frame of a cluster enters its kernel.
         kernel_capacity: features kept per kernel.
+        max_features: features per frame.
         normalize: contrast normalization (:class:`~placeclust.features.FeatureExtractor`).
         scale: resize factor before detection (:class:`~placeclust.features.FeatureExtractor`).
         view: ``"full"`` or ``"sides"`` of a panorama (:data:`~placeclust.features.VIEWS`).
+
+    Attributes:
+        graph: the place graph of the last iteration (step 4).
+        n_iter_: iterations of steps 5-7 run by the last :meth:`fit_predict`.
+
+    Examples:
+        >>> from placeclust.synthetic import places
+        >>> frames, truth = places(4)
+        >>> from placeclust.kunion import KAdjacentUnion
+        >>> model = KAdjacentUnion(window=2)
+        >>> model.fit_predict(frames).tolist()
+        [0, 0, 0, 0, 1, 1, 1, 1]
+        >>> list(model.graph.edges)
+        [(0, 1)]
     """
 
     def __init__(self, features: str = "sift", join_similarity: float = 0.15, window: int = 15,
@@ -54,7 +69,14 @@ class KAdjacentUnion:
         self.n_iter_ = 0
 
     def fit_predict(self, frames: np.ndarray) -> np.ndarray:
-        """Place id per frame, (T,) int, numbered 0..n_places-1."""
+        """Cluster a whole sequence (steps 1-8).
+
+        Args:
+            frames: (T, H, W[, C]) images.
+
+        Returns:
+            Place id per frame, (T,) int, numbered 0..n_places-1.
+        """
         ext = FeatureExtractor(self.features, self.max_features, self.normalize, self.scale,
                                self.view)
         descs = describe_all(frames, ext)

@@ -5,6 +5,28 @@ code): one JSON record (format name and version, constructor parameters, the wor
 was made in, the topological graph) and three arrays per place kernel. Saving writes a
 temporary file beside the target and renames it over the target, so a process killed
 mid-save leaves the old map or the new one, never a broken file.
+
+Examples:
+    A map of two synthetic places, saved and loaded back:
+
+    >>> import tempfile
+    >>> from pathlib import Path
+    >>> import numpy as np
+    >>> from placeclust import OnlinePlaceClustering
+    >>> from placeclust.mapfile import load_map, read_meta, save_map
+    >>> from placeclust.synthetic import jitter, textured
+    >>> rng = np.random.default_rng(0)
+    >>> model = OnlinePlaceClustering(features="orb")
+    >>> for img in [textured(1)] * 2 + [textured(2)] * 2:
+    ...     model.learn_one(jitter(img, rng))
+    >>> with tempfile.TemporaryDirectory() as folder:
+    ...     path = save_map(model, Path(folder) / "map.npz", world="demo")
+    ...     meta, arrays = read_meta(path)
+    ...     loaded = load_map(path, world="demo")
+    >>> meta["format"], meta["version"], meta["places"], meta["edges"]
+    ('placeclust-map', 5, [0, 1], [[0, 1]])
+    >>> loaded.n_places, loaded.current, loaded.features
+    (2, 1, 'orb')
 """
 
 from __future__ import annotations
@@ -23,10 +45,12 @@ if TYPE_CHECKING:
     from placeclust.online import OnlinePlaceClustering
 
 FORMAT = "placeclust-map"
-# 2: the parameters include ``normalize``; version-1 maps were made from raw frames
-# 3: the parameters include ``scale``; older maps were made from full-size frames
-# 4: the parameters include ``view``; older maps hold features of the whole frame
-# 5: the parameters include ``scene_change``; older maps opened places without a gate
+#: The format version written. :func:`load_map` reads older ones with the parameters their maps
+#: were made with:
+#: 2: the parameters include ``normalize``; version-1 maps were made from raw frames
+#: 3: the parameters include ``scale``; older maps were made from full-size frames
+#: 4: the parameters include ``view``; older maps hold features of the whole frame
+#: 5: the parameters include ``scene_change``; older maps opened places without a gate
 VERSION = 5
 
 
@@ -42,6 +66,9 @@ def save_map(model: OnlinePlaceClustering, path: str | os.PathLike, world: str =
 
     Returns:
         The path written.
+
+    Raises:
+        FileNotFoundError: the folder of ``path`` does not exist.
     """
     path = Path(path)
     if not path.parent.is_dir():
@@ -67,7 +94,19 @@ def save_map(model: OnlinePlaceClustering, path: str | os.PathLike, world: str =
 
 
 def read_meta(path: str | os.PathLike) -> tuple[dict, dict[str, np.ndarray]]:
-    """The JSON record and arrays of a map file, or a ``ValueError`` saying what is wrong."""
+    """The JSON record and arrays of a map file, or a ``ValueError`` saying what is wrong.
+
+    Args:
+        path: the map file.
+
+    Returns:
+        ``(meta, arrays)``: the JSON record and the kernel arrays by name.
+
+    Raises:
+        FileNotFoundError: there is no file at ``path``.
+        ValueError: the file is not a readable placeclust map, or of a newer format version
+            than :data:`VERSION`.
+    """
     path = Path(path)
     if not path.is_file():
         raise FileNotFoundError(f"no map file at {path}")
@@ -96,7 +135,13 @@ def load_map(path: str | os.PathLike, world: str | None = None) -> OnlinePlaceCl
 
     Returns:
         A new :class:`~placeclust.online.OnlinePlaceClustering` with the saved parameters,
-        kernels, graph and current place.
+        kernels, graph and current place. Maps of older format versions get the parameters
+        they were made with (see :data:`VERSION`).
+
+    Raises:
+        FileNotFoundError: there is no file at ``path``.
+        ValueError: the file is not a readable, consistent map of this class (and of
+            ``world``, if given).
     """
     from placeclust.online import OnlinePlaceClustering
 

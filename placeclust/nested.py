@@ -1,4 +1,8 @@
-"""Nested two-level topological mapper: seed 001 (Elgayar, Salem, Roushdy), Sec. 4."""
+"""Nested two-level topological mapper: seed 001 (Elgayar, Salem, Roushdy), Sec. 4.
+
+A global level of *locations* (tracked SIFT points, Sec. 4.4-4.5) and, inside each location, a
+local level of *views* (Haar wavelet signatures, Sec. 3.2 and 4.6): :class:`NestedMapper`.
+"""
 
 from __future__ import annotations
 
@@ -61,11 +65,9 @@ class NestedMapper:
 
     The paper's 25 matches were set for a forward camera, whose view breaks at a door. A 360°
     panorama keeps part of the last room in view, and a location holds the points of its last
-    ``max_missed`` key frames, so consecutive key frames always share far more than 25 points.
-    Measured on 3,000 frames of a 12-room simulated tour (SIFT, 661 key frames): the best
-    location's matches were never below 129 within 15 frames of a room change, and as low as
-    110 elsewhere, so no count separates rooms cleanly. With 25 the mapper keeps one location;
-    ``min_matches=200`` gives 30 locations at precision 0.87 and NMI 0.77.
+    ``max_missed`` key frames, so consecutive key frames always share far more than 25 points
+    and no count separates rooms cleanly: on panoramas the default keeps a single location
+    (``docs/design.md``); ``min_matches`` is a parameter.
 
     Args:
         features: local features (the paper uses SIFT).
@@ -80,6 +82,28 @@ class NestedMapper:
         ratio: Lowe's ratio for correspondences.
         normalize: contrast normalization (:class:`~placeclust.features.FeatureExtractor`).
         scale: resize factor before detection (:class:`~placeclust.features.FeatureExtractor`).
+
+    Examples:
+        Four jittered views of one synthetic place, then four of another: only the first view
+        of each differs enough from the last key frame to be a key frame, and the others keep
+        its localization:
+
+        >>> from placeclust.nested import NestedMapper
+        >>> from placeclust.synthetic import places
+        >>> frames, truth = places(4)
+        >>> mapper = NestedMapper()
+        >>> places, keyframes = [], []
+        >>> for f in frames:
+        ...     places.append(mapper.localize(f))
+        ...     keyframes.append(bool(mapper.last_was_keyframe))
+        >>> places
+        [(0, 0), (0, 0), (0, 0), (0, 0), (1, 0), (1, 0), (1, 0), (1, 0)]
+        >>> keyframes
+        [True, False, False, False, True, False, False, False]
+        >>> mapper.n_places, list(mapper.graph.edges)
+        (2, [(0, 1)])
+        >>> mapper.predict_one(frames[0])
+        0
     """
 
     def __init__(
@@ -121,6 +145,7 @@ class NestedMapper:
 
     @property
     def n_places(self) -> int:
+        """The number of locations (the global level)."""
         return len(self.locations)
 
     def learn_one(self, frame: np.ndarray) -> None:
@@ -128,11 +153,25 @@ class NestedMapper:
         self.localize(frame)
 
     def learn_predict_one(self, frame: np.ndarray) -> int:
-        """Learn from ``frame`` and return its location id (the high level), or -1."""
+        """Learn from ``frame`` and return its location id (the global level).
+
+        Args:
+            frame: an image (see :func:`~placeclust.frames.to_gray`).
+
+        Returns:
+            The location, or -1 before the first key frame with features.
+        """
         return self.localize(frame)[0]
 
     def predict_one(self, frame: np.ndarray) -> int:
-        """The best location of ``frame`` without changing the map, or -1."""
+        """The best location of ``frame`` without changing the map.
+
+        Args:
+            frame: an image (see :func:`~placeclust.frames.to_gray`).
+
+        Returns:
+            The location with most matches if they are at least ``min_matches``, else -1.
+        """
         desc = self._describe(to_gray(frame))
         if len(desc) == 0 or not self.locations:
             return UNKNOWN
@@ -142,8 +181,15 @@ class NestedMapper:
     def localize(self, frame: np.ndarray) -> tuple[int, int]:
         """Two-level localization (Sec. 4.6) of ``frame``, learning as it goes.
 
+        Args:
+            frame: an image (see :func:`~placeclust.frames.to_gray`), the size of the map's
+                earlier frames.
+
         Returns:
             ``(location, view)``; non-key frames return the last localization.
+
+        Raises:
+            ValueError: ``frame`` is not a valid image or differs in size from earlier frames.
         """
         gray = to_gray(frame)
         self.frame_shape = check_size(gray, self.frame_shape)

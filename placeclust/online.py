@@ -1,4 +1,23 @@
-"""Online sequential place clustering: seed 000 (Tang, Hamami, Karasfi, Nakhaeinia), Sec. IV."""
+"""Online sequential place clustering: seed 000 (Tang, Hamami, Karasfi, Nakhaeinia), Sec. IV.
+
+:class:`OnlinePlaceClustering` turns a stream of frames into a topological map of places, one
+frame at a time; :data:`PANORAMA` holds its settings for 360° panoramas.
+
+Examples:
+    :data:`PANORAMA` is read-only, so that one caller's change cannot leak into another's
+    recognizer; derive a variant with ``dict``:
+
+    >>> from placeclust import PANORAMA, OnlinePlaceClustering
+    >>> model = OnlinePlaceClustering(**PANORAMA)
+    >>> model.view, model.kernel_capacity, model.scene_change, model.scale
+    ('sides', 600, 0.25, 0.75)
+    >>> OnlinePlaceClustering(**dict(PANORAMA, scale=1.0)).scale
+    1.0
+    >>> PANORAMA["scale"] = 1.0
+    Traceback (most recent call last):
+        ...
+    TypeError: 'mappingproxy' object does not support item assignment
+"""
 
 from __future__ import annotations
 
@@ -39,13 +58,10 @@ _NONE = _Compared(UNKNOWN, np.inf, (np.zeros(0, np.int64), np.zeros(0, np.int64)
 #: kernel_capacity=600 --param scene_change=0.25 --param scale=0.75``. Read-only, so that one
 #: caller's change cannot leak into another's recognizer.
 #:
-#: Why ``scale=0.75`` (placeclust 0.9.0): OpenCV's SIFT is most of a frame, and it doubles its
-#: input for its first octave, so a 384x96 copy of a 512x128 panorama still gives ~470-480 of
-#: the 500 features, in ~10 instead of ~15 ms. On the 16 tours of ``README``, "Scene changes",
-#: the quality held (precision 0.987 against 0.982, NMI 0.864 against 0.863, 1.51 against 1.43
-#: places per room; 15 tours of 16 meet all three bars, against 13). Its price is reuse under
-#: another condition, which the gate already makes poor: mapped by day, localized by night,
-#: cloudy light, moved furniture or camera noise, precision 0.77-0.82 against 0.80-0.85.
+#: Why ``scale=0.75``: SIFT is most of a frame's time, and OpenCV's SIFT doubles its input for
+#: its first octave, so a 0.75 copy still yields nearly all the features, faster, with the same
+#: quality on the simulator's tours (``docs/benchmarks.md``). Its price is poorer reuse
+#: under another condition (light, furniture, noise), which the gate already makes poor;
 #: ``dict(PANORAMA, scale=1.0)`` gives the full-size detection back.
 PANORAMA: Mapping[str, object] = MappingProxyType(
     {"view": "sides", "kernel_capacity": 600, "scene_change": 0.25, "scale": 0.75})
@@ -54,117 +70,104 @@ PANORAMA: Mapping[str, object] = MappingProxyType(
 class OnlinePlaceClustering:
     """Unsupervised, online place recognition with union-of-features kernels.
 
-    Each frame's local features are compared with the kernels of the current place and its
-    neighbours in the topological graph (Sec. IV, step 4). Eq. 4 is a similarity (the Dice
-    coefficient of matched features) although the text calls it a distance and compares its
-    *minimum* with the thresholds, so this class uses ``distance = 1 - Eq. 4``, which keeps the
-    paper's ordering ``T_Update_Cluster < T_New_Cluster < 1`` (steps 5-8):
+    Implements the online sequential place clustering of seed 000 (Sec. IV). Each frame's local
+    features are matched (Eq. 3) with the kernels (:class:`~placeclust.kernel.UnionKernel`,
+    Sec. III.B) of the current place and its graph neighbours (step 4), and the nearest place
+    decides (steps 5-8). Eq. 4 is a similarity (a Dice coefficient) that the paper calls a
+    distance and minimises, so this class uses ``distance = 1 - Eq. 4``, which keeps the
+    paper's ordering ``T_Update_Cluster < T_New_Cluster < 1``:
 
     - ``distance > t_new_cluster``: a new place, connected to the current one (step 6);
     - ``t_new_cluster >= distance > t_update_cluster``: the place's kernel absorbs the frame
       (``Union_Of_Cluster``, step 7);
-    - ``distance <= t_update_cluster``: the frame is recognised, the kernel is left as it is
-      (step 8).
+    - ``distance <= t_update_cluster``: recognised, the kernel is left as it is (step 8).
 
-    The current place is compared first, and a frame it recognises (step 8) stays there without
-    a comparison with the neighbours, so tracking costs one match however many neighbours the
-    place has gained (the paper takes the nearest of them all: the two differ only where a
-    neighbour is nearer still than a place that recognises the frame). On 16 simulated tours
-    this changed no figure, with :data:`PANORAMA` or the defaults; on a 12-room tour of 8,000
-    frames it saved 14% of the matches.
+    Where the paper is silent, or would fail, this class adds (the reasons are in
+    ``docs/design.md``, "Choices the papers leave open"):
 
-    The paper does not say what happens when the robot returns to a known place that is not a
-    neighbour of the current one (a loop); restricted to neighbours, it would open a duplicate
-    place. Here, when no neighbour is within ``t_new_cluster``, the frame is relocalized
-    against the whole map through a :class:`~placeclust.index.PlaceIndex` (the ``shortlist``
-    places with most votes are checked with Eq. 4); if one is within ``t_new_cluster`` the
-    robot is placed there and an edge closes the loop; the shortlist is checked in order of
-    votes and stops at a place that recognises the frame. ``relocalize=False`` gives the paper's
-    neighbour-only search.
-
-    With ``scene_change`` set, a place opens only near a scene change
-    (:class:`~placeclust.scene_change.SceneChangeGate`, the online form of the scene-change
-    detection of Sec. III.C step 1): a frame beyond ``t_new_cluster`` of every place within
-    ``scene_window`` frames after a scene change opens a new place as in step 6; any other
-    frame beyond it stays in the current place, whose kernel absorbs it as in step 7. A kernel
-    is a bounded union of the oldest heaviest features, so driving through a room leaves it
-    behind every metre or so; without the gate each time opens a place, with it only a doorway
-    does. While the gate is closed the robot has not left its room, so a frame that no
-    neighbour matches is not searched for in the whole map either (a full map localizes it
-    among the neighbours, see ``max_places``): on a 12-room tour of 8,000 frames 37% of the
-    frames had been searched for, 47 are now; precision rose from 0.943 to 0.953 and the
-    median frame took 14.5 instead of 16.1 ms (SIFT). A first frame, or the
-    first after :meth:`reset_position`, opens a place anyway. Map files do not keep the gate's
-    recent frames: after :meth:`load` it stays closed for ``scene_lag`` frames, so learning
-    resumes in the saved place. The places are whole rooms, but their kernels still hold what
-    was seen first: mapping by day and localizing the same route under another condition
-    (:meth:`localize_one`), precision fell from 0.93-0.94 (side views without the gate) to
-    0.81-0.85 with it (placeclust 0.7.0, ``README``, "Scene changes"): for a map that must
-    serve under other conditions, leave the gate off.
-
-    Frames with fewer than ``min_features`` features (a black image, a blank wall) are
-    featureless: they are reported as :data:`UNKNOWN` (-1) and change nothing.
+    - **Tracking first.** A frame the current place recognises is not compared with the
+      neighbours, so tracking costs one match however many neighbours the place has.
+    - **Loop closure.** When no neighbour is within ``t_new_cluster``, a
+      :class:`~placeclust.index.PlaceIndex` shortlists places of the whole map, checked with
+      Eq. 4; ``relocalize=False`` gives the paper's neighbour-only search.
+    - **Scene-change gate** (``scene_change``, off by default). A place opens only within
+      ``scene_window`` frames after a scene change
+      (:class:`~placeclust.scene_change.SceneChangeGate`, the online form of Sec. III.C step
+      1); any other frame beyond ``t_new_cluster`` is absorbed by the current place. Such
+      maps localize worse under other conditions: leave the gate off for a map that must
+      serve under them.
+    - **Featureless frames**, with fewer than ``min_features`` features (a black image, a
+      blank wall), are :data:`UNKNOWN` (-1) and change nothing.
 
     Args:
         features: local feature type, see :mod:`placeclust.features` (the paper uses SURF-64).
         max_features: features kept per frame.
-        t_new_cluster: ``T_New_Cluster`` on ``1 - Eq. 4``. The paper gives no values for
-            either threshold. ``scale=0.75, t_new_cluster=0.9, t_update_cluster=0.5`` gave
-            higher precision and NMI on tours under one light, but lower precision when the
-            map is reused under another light or after changes (``README``, "Choosing the
-            thresholds"), so the defaults stay.
+        t_new_cluster: ``T_New_Cluster`` on ``1 - Eq. 4``; the paper gives no values for
+            either threshold. ``0.9`` and ``0.5`` (with ``scale=0.75``) score higher under one
+            light but worse when the map is reused under another light or after changes, so
+            the defaults stay.
         t_update_cluster: ``T_Update_Cluster`` on ``1 - Eq. 4``.
         kernel_capacity: the most features a kernel keeps (Sec. III.B pruning).
-        max_places: the most places the map holds, or ``None`` for no limit (the paper). A
-            full map stops growing: a frame that would open a place is localized instead, as
-            by :meth:`localize_one`, and changes nothing. Kernels are capped too, so memory and
-            latency are bounded for any run length and any feature type (ORB keeps opening
-            places on new paths through known rooms, see ``envs.longrun``).
+        max_places: the most places, or ``None`` for no limit (the paper). A full map stops
+            growing: a frame that would open a place is localized instead, as by
+            :meth:`localize_one`. With capped kernels this bounds memory and latency for any
+            run (ORB keeps opening places on new paths through known rooms, see
+            ``envs.longrun``).
         ratio: Lowe's ratio for correspondences (Eq. 3).
         relocalize: search the whole map when no neighbour matches (see above).
         shortlist: places checked exactly after an index query.
         index_features: features per place in the relocalization index.
         min_features: fewer features than this make a frame featureless.
-        t_localize: distance above which :meth:`localize_one` reports :data:`UNKNOWN`. On a
-            fixed map the question is "which place is this most like", not "is this a new
-            place", so it is looser than ``t_new_cluster``: on random drives in a 4-room world
-            mapped by one tour (ORB), 0.85 left 89% of frames unknown, 0.98 none, with 99% of
-            frames in their place's majority room.
-        normalize: contrast normalization before feature detection (see
-            :class:`~placeclust.features.FeatureExtractor`). The paper works on raw images;
-            CLAHE is this project's addition for COLD-like light changes: on three 4-room
-            worlds (SIFT), it raised precision from 0.87 to 0.95 under one light and, mapping
-            by day and localizing at night, from 0.76 to 0.94 (``placeclust bench``).
-        scale: resize factor in (0, 1] before feature detection (see
-            :class:`~placeclust.features.FeatureExtractor`); saved maps record it.
-        view: ``"full"`` (any camera) or, for 360° panoramas with the heading at the centre
-            column, ``"sides"``: only the features within 45° of the robot's left and right
-            (:data:`~placeclust.features.VIEWS`). A whole panorama sees the next room through
-            a doorway before the robot reaches it and the last room after, so places open
-            early or late; a sideways view changes room as the robot passes the door. On 16
-            simulated tours (4 and 8 rooms) precision rose from 0.93 to 0.96 with
-            ``kernel_capacity=600`` (half the features, half the kernel) and to 0.97 with
-            ``t_new_cluster=0.9, t_update_cluster=0.5`` as well, at 3.3 and 2.5 places per
-            room against 2.4
-            (``README``, "Side views"). Saved maps record it.
+        t_localize: distance above which :meth:`localize_one` reports :data:`UNKNOWN`; looser
+            than ``t_new_cluster``, since on a fixed map the question is "which place is this
+            most like", not "is this a new place".
+        normalize: contrast normalization before detection
+            (:class:`~placeclust.features.FeatureExtractor`). The paper works on raw images;
+            CLAHE is this project's addition for COLD-like light changes.
+        scale: resize factor in (0, 1] before detection; saved maps record it.
+        view: ``"full"`` (any camera) or ``"sides"`` for 360° panoramas with the heading at the
+            centre column: only the features within 45° of the robot's left and right
+            (:data:`~placeclust.features.VIEWS`), which change room as the robot passes the
+            door, where a whole panorama sees the next room early and the last one late.
+            Saved maps record it.
         scene_change: similarity threshold of the scene-change gate (see above), or ``None``
             for the paper's behaviour, a new place whenever no place is within
-            ``t_new_cluster``. With ``view="sides", kernel_capacity=600`` and 0.25
-            (:data:`PANORAMA` before its ``scale=0.75``), 16 simulated tours gave precision
-            0.98, NMI 0.863 and 1.4 places per room, against 0.96, 0.70 and 3.3 without the
-            gate (``README``, "Scene changes").
+            ``t_new_cluster``.
         scene_lag: frames between the two frames the gate compares (10 frames are 40 cm of the
             simulator's scripted tours).
         scene_window: frames after a scene change during which a place may open.
 
-    Example:
+    Raises:
+        ValueError: unless ``0 <= t_update_cluster < t_new_cluster < 1``, or if ``max_places``
+            is below 1.
+
+    Examples:
+        Three jittered views of one synthetic place, then three of another:
+
         >>> import numpy as np
         >>> from placeclust import OnlinePlaceClustering
-        >>> rng = np.random.default_rng(0)
-        >>> frame = (rng.random((64, 256)) * 255).astype(np.uint8)
-        >>> model = OnlinePlaceClustering(features="orb")
-        >>> model.learn_predict_one(frame), model.learn_predict_one(frame)
-        (0, 0)
+        >>> from placeclust.synthetic import places
+        >>> frames, truth = places(3)
+        >>> model = OnlinePlaceClustering()
+        >>> [model.learn_predict_one(f) for f in frames]
+        [0, 0, 0, 1, 1, 1]
+        >>> model.n_places, sorted(model.graph.edges)
+        (2, [(0, 1)])
+
+        :meth:`predict_one` and :meth:`localize_one` leave the map as it is; a featureless
+        frame is :data:`UNKNOWN`:
+
+        >>> model.predict_one(frames[0]), model.localize_one(frames[4])
+        (0, 1)
+        >>> model.predict_one(np.zeros((128, 512), np.uint8))
+        -1
+
+        With the scene-change gate no place opens before the gate has seen ``scene_lag``
+        frames, so here the second place's frames are absorbed by the first:
+
+        >>> gated = OnlinePlaceClustering(scene_change=0.25)
+        >>> [gated.learn_predict_one(f) for f in frames]
+        [0, 0, 0, 0, 0, 0]
     """
 
     def __init__(
@@ -224,11 +227,24 @@ class OnlinePlaceClustering:
     # -- river-style API ---------------------------------------------------------------------
 
     def learn_one(self, frame: np.ndarray) -> None:
-        """Update the map with one frame (Sec. IV, steps 1-8)."""
+        """Update the map with one frame (Sec. IV, steps 1-8).
+
+        Args:
+            frame: ``(H, W)`` or ``(H, W, 1|3|4)`` image (see :func:`~placeclust.frames.to_gray`),
+                the size of the map's earlier frames.
+        """
         self.learn_predict_one(frame)
 
     def predict_one(self, frame: np.ndarray) -> int:
-        """The place of ``frame`` without changing the map, or :data:`UNKNOWN`."""
+        """The place of ``frame`` without changing the map or the current place.
+
+        Args:
+            frame: an image, as for :meth:`learn_one`.
+
+        Returns:
+            The nearest place within ``t_new_cluster``, or :data:`UNKNOWN` if there is none or
+            the frame is featureless.
+        """
         desc = self._describe(frame)
         if desc is None or not self.kernels:
             return UNKNOWN
@@ -236,7 +252,18 @@ class OnlinePlaceClustering:
         return best.place if best.distance <= self.t_new_cluster else UNKNOWN
 
     def learn_predict_one(self, frame: np.ndarray) -> int:
-        """Learn from ``frame`` and return its place id (step 9), or :data:`UNKNOWN`."""
+        """Learn from ``frame`` (steps 1-8) and return its place (step 9).
+
+        Args:
+            frame: an image, as for :meth:`learn_one`.
+
+        Returns:
+            The place id, or :data:`UNKNOWN` for a featureless frame or, on a full map
+            (``max_places``), a frame beyond ``t_localize`` of every place searched.
+
+        Raises:
+            ValueError: ``frame`` is not a valid image or differs in size from the map's frames.
+        """
         desc = self._describe(frame, learn=True)
         if desc is None:
             return UNKNOWN
@@ -267,6 +294,12 @@ class OnlinePlaceClustering:
         neighbours) but the map never changes: no kernel update, no new place, no new edge.
         A frame that matches no place within ``t_localize`` is :data:`UNKNOWN` and leaves the
         current place as it was, so tracking resumes from there.
+
+        Args:
+            frame: an image, as for :meth:`learn_one`.
+
+        Returns:
+            The place id, or :data:`UNKNOWN`.
         """
         desc = self._describe(frame)
         if desc is None or not self.kernels:
@@ -275,15 +308,18 @@ class OnlinePlaceClustering:
         return self._localized(best.place, best.distance)
 
     def reset_position(self) -> None:
-        """Forget where the robot is (it was carried elsewhere): the next frame is searched in
-        the whole map (through the index shortlist) instead of the current place's
-        neighbourhood, and the scene-change gate forgets the frames before. The map is kept."""
+        """Forget where the robot is (it was carried elsewhere); the map is kept.
+
+        The next frame is searched in the whole map (through the index shortlist) instead of
+        the current place's neighbourhood, and the scene-change gate forgets the frames before.
+        """
         self.current = UNKNOWN
         if self._gate is not None:
             self._gate.reset()
 
     @property
     def n_places(self) -> int:
+        """The number of places in the map."""
         return len(self.kernels)
 
     @property
@@ -294,22 +330,55 @@ class OnlinePlaceClustering:
     # -- map persistence ---------------------------------------------------------------------
 
     def get_params(self) -> dict[str, object]:
-        """The constructor arguments (scikit-learn style), enough to rebuild an empty model."""
+        """The constructor arguments (scikit-learn style), enough to rebuild an empty model.
+
+        Returns:
+            Parameter name -> value, for every argument of ``__init__``.
+        """
         names = inspect.signature(type(self).__init__).parameters
         return {n: getattr(self, n) for n in names if n != "self"}
 
     def save(self, path: str | os.PathLike, world: str = "") -> None:
-        """Write the map atomically (see :func:`placeclust.mapfile.save_map`)."""
+        """Write the map atomically (see :func:`placeclust.mapfile.save_map`).
+
+        Args:
+            path: the map file; its folder must exist.
+            world: a fingerprint of the world the map was made in, checked by :meth:`load`.
+        """
         save_map(self, path, world)
 
     @classmethod
     def load(cls, path: str | os.PathLike, world: str | None = None) -> OnlinePlaceClustering:
-        """A recognizer from a map file; ``world`` must match if given (see :mod:`mapfile`)."""
+        """A recognizer from a map file (see :func:`placeclust.mapfile.load_map`).
+
+        Args:
+            path: a map file written by :meth:`save`.
+            world: if given, the world the map must have been made in.
+
+        Returns:
+            A recognizer with the saved parameters, map and current place.
+
+        Raises:
+            FileNotFoundError: there is no file at ``path``.
+            ValueError: the file is not a readable, consistent map (of ``world``, if given).
+        """
         return load_map(path, world)
 
     def restore(self, kernels: dict[int, tuple], place_images: dict[int, int],
                 edges: list, current: int, frame_shape: list | None) -> None:
-        """Replace the map with saved state (used by :func:`placeclust.mapfile.load_map`)."""
+        """Replace the map with saved state (used by :func:`placeclust.mapfile.load_map`).
+
+        Args:
+            kernels: place -> ``(descriptors, weights, last_seen, n_images)`` of its kernel.
+            place_images: place -> frames assigned to it.
+            edges: the topological graph's edges, pairs of places.
+            current: the robot's place, or :data:`UNKNOWN`.
+            frame_shape: ``(H, W)`` of the map's frames, or ``None``.
+
+        Raises:
+            ValueError: place ids are not ``0..n-1``, or ``current`` or an edge names a place
+                that is not in the map.
+        """
         places = sorted(int(p) for p in kernels)
         if places != list(range(len(places))):
             raise ValueError(f"place ids must be 0..n-1, got {places[:10]}")

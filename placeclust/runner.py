@@ -1,4 +1,8 @@
-"""Runs any recognizer over a recorded sequence and scores it: the core of the CLI and demo."""
+"""Runs any recognizer over a recorded sequence and scores it: the core of the CLI and demo.
+
+Online recognizers (:data:`ONLINE`) see one frame at a time and are timed per frame; offline
+ones (:data:`OFFLINE`) see the whole sequence, and their total time is spread over the frames.
+"""
 
 from __future__ import annotations
 
@@ -22,7 +26,15 @@ OFFLINE = {"kunion": KAdjacentUnion, "wpgma": WPGMAPlaces, "kmeans": KMeansPlace
 
 @dataclass
 class Result:
-    """Assignments (place per frame), per-frame latencies (s) and the fitted model."""
+    """The outcome of :func:`run` or :func:`localize`.
+
+    Attributes:
+        assignments: place per frame, (T,) int64, -1 for unknown.
+        latencies: seconds per frame, (T,).
+        model: the recognizer, with its map.
+        localized: (T,) bool, the frames the method localized itself (the nested mapper's key
+            frames; every frame for the others).
+    """
 
     assignments: np.ndarray
     latencies: np.ndarray
@@ -31,7 +43,16 @@ class Result:
 
 
 def recognizer_class(algo: str) -> type:
-    """The class of ``algo`` (one of :data:`ALGORITHMS`), or a ``ValueError`` naming them."""
+    """The class of ``algo``, one of :data:`ALGORITHMS`.
+
+    Raises:
+        ValueError: an unknown ``algo``; the message names the known ones.
+
+    Examples:
+        >>> from placeclust.runner import recognizer_class
+        >>> recognizer_class("kunion").__name__
+        'KAdjacentUnion'
+    """
     cls = {**ONLINE, **OFFLINE}.get(algo)
     if cls is None:
         raise ValueError(f"unknown algorithm {algo!r}; choose one of {ALGORITHMS}")
@@ -39,8 +60,21 @@ def recognizer_class(algo: str) -> type:
 
 
 def check_params(algo: str, names: Iterable[str]) -> None:
-    """A ``ValueError`` naming the first of ``names`` that ``algo``'s constructor does not take
-    (``features`` is not a parameter: every recognizer is given it separately)."""
+    """Check parameter names against ``algo``'s constructor before running anything.
+
+    ``features`` is not a parameter here: every recognizer is given it separately.
+
+    Raises:
+        ValueError: naming the first of ``names`` that ``algo``'s constructor does not take.
+
+    Examples:
+        >>> from placeclust.runner import check_params
+        >>> check_params("online", ["t_new_cluster", "scale"])
+        >>> check_params("kmeans", ["t_new_cluster"])  # doctest: +ELLIPSIS
+        Traceback (most recent call last):
+            ...
+        ValueError: kmeans has no parameter 't_new_cluster'; it takes ['n_clusters', ...]
+    """
     known = [n for n in inspect.signature(recognizer_class(algo).__init__).parameters
              if n not in ("self", "features")]
     for name in names:
@@ -49,13 +83,46 @@ def check_params(algo: str, names: Iterable[str]) -> None:
 
 
 def make(algo: str, features: str = "sift", **params: object) -> object:
-    """A fresh recognizer ``algo`` (one of :data:`ALGORITHMS`) using ``features``."""
+    """A fresh recognizer ``algo`` (one of :data:`ALGORITHMS`) using ``features``.
+
+    Args:
+        algo: the recognizer's name.
+        features: local feature type (:data:`~placeclust.features.FEATURES`).
+        **params: other constructor arguments.
+    """
     return recognizer_class(algo)(features=features, **params)
 
 
 def run(algo: str, frames: np.ndarray, features: str = "sift", progress: bool = False,
         **params: object) -> Result:
-    """Run ``algo`` over ``frames`` (T, H, W[, C]); online ones one frame at a time."""
+    """Run ``algo`` over ``frames``; online ones one frame at a time (``learn_predict_one``).
+
+    Args:
+        algo: one of :data:`ALGORITHMS`.
+        frames: (T, H, W[, C]) images.
+        features: local feature type.
+        progress: show a progress bar.
+        **params: other constructor arguments of the recognizer.
+
+    Returns:
+        The place per frame, the latencies and the fitted model.
+
+    Examples:
+        >>> from placeclust import runner
+        >>> from placeclust.synthetic import places
+        >>> frames, truth = places(3)
+        >>> result = runner.run("online", frames, features="orb")
+        >>> result.assignments.tolist(), result.latencies.shape
+        ([0, 0, 0, 1, 1, 1], (6,))
+        >>> metrics = runner.evaluate(result, rooms=truth)
+        >>> metrics["precision"], metrics["n_places"], round(metrics["nmi"], 3)
+        (1.0, 2, 1.0)
+
+        The learnt map can then track another sequence without changing:
+
+        >>> runner.localize(result.model, frames[::-1]).assignments.tolist()
+        [1, 1, 1, 0, 0, 0]
+    """
     model = make(algo, features, **params)
     if algo in OFFLINE:
         start = time.perf_counter()
@@ -66,18 +133,25 @@ def run(algo: str, frames: np.ndarray, features: str = "sift", progress: bool = 
 
 
 def localize(model: object, frames: np.ndarray, progress: bool = False) -> Result:
-    """Track ``frames`` on ``model``'s fixed map (``localize_one``: no place is learnt)."""
+    """Track ``frames`` on ``model``'s fixed map (``localize_one``: no place is learnt).
+
+    Args:
+        model: a recognizer with ``localize_one``, such as
+            :class:`~placeclust.online.OnlinePlaceClustering`.
+        frames: (T, H, W[, C]) images.
+        progress: show a progress bar.
+    """
     return _one_at_a_time(model, model.localize_one, frames, progress, "localize")
 
 
 def _one_at_a_time(model: object, step, frames: np.ndarray, progress: bool, desc: str
                    ) -> Result:
-    from tqdm import tqdm
+    from placeclust.progress import progress as progress_bar
 
     labels = np.empty(len(frames), np.int64)
     lat = np.empty(len(frames))
     localized = np.ones(len(frames), bool)
-    for t, frame in enumerate(tqdm(frames, disable=not progress, desc=desc, unit="frame")):
+    for t, frame in enumerate(progress_bar(frames, enabled=progress, desc=desc, unit="frame")):
         start = time.perf_counter()
         labels[t] = step(frame)
         lat[t] = time.perf_counter() - start
@@ -86,6 +160,25 @@ def _one_at_a_time(model: object, step, frames: np.ndarray, progress: bool, desc
 
 
 def evaluate(result: Result, rooms: np.ndarray) -> dict[str, float]:
-    """Metrics of :mod:`placeclust.metrics` plus latency for one run."""
+    """Metrics of :mod:`placeclust.metrics` plus latency for one run.
+
+    Args:
+        result: a :func:`run` or :func:`localize` result.
+        rooms: ground-truth room per frame.
+
+    Returns:
+        :func:`~placeclust.metrics.score` (``matching_rate`` over ``result.localized``) and
+        :func:`~placeclust.metrics.latency_summary` in one dict.
+
+    Examples:
+        >>> import numpy as np
+        >>> from placeclust.runner import Result, evaluate
+        >>> result = Result(assignments=np.array([0, 0, 1, 1]), model=None,
+        ...                 latencies=np.array([0.01, 0.02, 0.02, 0.03]),
+        ...                 localized=np.ones(4, bool))
+        >>> metrics = evaluate(result, rooms=np.array([4, 4, 7, 7]))
+        >>> metrics["precision"], metrics["n_rooms"], metrics["ms_per_frame"]
+        (1.0, 2, 20.0)
+    """
     return {**score(result.assignments, rooms, result.localized),
             **latency_summary(result.latencies)}

@@ -25,11 +25,13 @@ from __future__ import annotations
 import argparse
 import json
 import math
+import shlex
 import sys
 from pathlib import Path
 
 import numpy as np
 
+from placeclust.docs_section import write_section
 from train.config import HYPERPARAMS, env_section
 from train.make import PLANNER_SENSORS, SENSORS, make_env
 from train.mapping import EDGES_FILE, MAP_FILE
@@ -121,10 +123,11 @@ def evaluate(agent: str, episodes: int, seed: int, policy: Path | None = None,
     act = _Agent(agent, env, policy, seed, Path(map_dir), stochastic)
     if stochastic and hasattr(act, "model"):
         act.model.set_random_seed(seed)
-    from tqdm import tqdm
+    from placeclust.progress import progress as progress_bar
 
     runs = [_episode(env, act, seed if i == 0 else None)
-            for i in tqdm(range(episodes), disable=not progress, desc=agent, unit="episode")]
+            for i in progress_bar(range(episodes), enabled=progress, desc=agent,
+                                       unit="episode")]
     env.close()
     success = np.array([r[0] for r in runs])
     spl = [ok * best / max(best, driven, 1e-9) for ok, _, best, driven in runs]
@@ -150,7 +153,12 @@ def main(argv: list[str] | None = None) -> int:
     p.add_argument("--json", type=Path, help="also write the scores here")
     p.add_argument("--stochastic", action="store_true",
                    help="PPO agents sample actions instead of taking the mean")
+    p.add_argument("--docs", metavar="FILE", help="with --agent all, also write the table "
+                   "into FILE's section agents-<config> (docs/benchmarks.md)")
+    argv = sys.argv[1:] if argv is None else list(argv)
     args = p.parse_args(argv)
+    if args.docs and args.agent != "all":
+        p.error("--docs writes the table of --agent all")
     if args.agent == "all" and args.policy:
         p.error("--policy names one agent's policy; it cannot go with --agent all")
     try:
@@ -163,6 +171,13 @@ def main(argv: list[str] | None = None) -> int:
         return 2
     if args.agent == "all":
         print(markdown_table(table))
+        if args.docs:
+            body = (f"{args.episodes} episodes drawn from seed {args.seed}, configuration "
+                    f"`{args.config.name}`, PPO acting on its mean action"
+                    f"{' (sampled)' if args.stochastic else ''}.\n\n{markdown_table(table)}")
+            name = "agents-" + args.config.stem.replace("_", "-")
+            command = shlex.join(["python", "-m", "train.evaluate", *argv])
+            write_section(args.docs, name, body, command)
     else:
         print(" ".join(f"{k}={v:.3f}" if isinstance(v, float) else f"{k}={v}"
                        for k, v in table[0].items()))

@@ -93,7 +93,8 @@ def train(agent: str, seed: int = 0, out: Path | None = None, timesteps: int | N
         checkpoints = CheckpointCallback(max(timesteps // 10 // n_envs, 1),
                                          str(out / "checkpoints"), name_prefix="ppo")
         start = time.perf_counter()
-        model.learn(timesteps, callback=checkpoints, progress_bar=progress)
+        # a bar on a terminal only: in a log SB3's stdout table already reports progress
+        model.learn(timesteps, callback=checkpoints, progress_bar=progress and sys.stderr.isatty())
         minutes = (time.perf_counter() - start) / 60
         venv.close()
     model.save(out / "policy.zip")

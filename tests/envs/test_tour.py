@@ -25,14 +25,14 @@ def test_scripted_tour_visits_every_room_with_its_actuators(make_env):
 
 def test_tour_cli_writes_npz_and_floorplan(tmp_path):
     out = tmp_path / "tour"
-    subprocess.run([sys.executable, "-m", "placeclust.cli", "tour", "--scene-seed", "3",
+    subprocess.run([sys.executable, "-m", "envs.cli", "tour", "--scene-seed", "3",
                     "--rooms", "4", "--steps", "30", "--width", "128", "--height", "32",
                     "--out", str(out), "--quiet"], check=True)
     z = np.load(out / "tour.npz")
     assert z["frames"].shape == (30, 32, 128, 3) and z["frames"].dtype == np.uint8
     assert z["room"].shape == (30,) and z["pose"].shape == (30, 3)
     assert (out / "floorplan.png").stat().st_size > 10_000
-    bad = subprocess.run([sys.executable, "-m", "placeclust.cli", "tour", "--steps", "-3",
+    bad = subprocess.run([sys.executable, "-m", "envs.cli", "tour", "--steps", "-3",
                           "--out", str(tmp_path / "x")], capture_output=True, text=True)
     assert bad.returncode != 0 and "--steps" in bad.stderr
     assert not (tmp_path / "x").exists()

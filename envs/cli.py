@@ -1,7 +1,7 @@
 """The ``placeclust`` command line: ``tour``, ``cluster``, ``demo`` and ``bench``.
 
-``tour``, ``demo`` and ``bench`` drive the simulator and import :mod:`envs` lazily, so
-``placeclust`` itself never needs gymnasium or MuJoCo.
+It sits above both the library (:mod:`placeclust`) and the simulator (this package): ``tour``,
+``demo`` and ``bench`` drive the simulator, ``cluster`` runs a recognizer on a recorded tour.
 """
 
 from __future__ import annotations
@@ -9,27 +9,17 @@ from __future__ import annotations
 import argparse
 import ast
 import json
+import shlex
 import sys
 from pathlib import Path
 
 import numpy as np
 
+from placeclust.docs_section import write_section
 from placeclust.features import FEATURES
 from placeclust.runner import ALGORITHMS, check_params, evaluate, run
 
-TABLE_KEYS = ("precision", "recall", "f_measure", "nmi", "ari", "n_places", "n_rooms",
-              "ms_per_frame")
-
-
-def format_table(rows: dict[str, dict[str, float]], keys: tuple[str, ...] = TABLE_KEYS) -> str:
-    """A markdown table: one row per method, one column per metric."""
-    head = "| method | " + " | ".join(keys) + " |"
-    sep = "|---" * (len(keys) + 1) + "|"
-    lines = [head, sep]
-    for name, m in rows.items():
-        cells = [f"{m[k]:.3f}" if isinstance(m[k], float) else str(m[k]) for k in keys]
-        lines.append(f"| {name} | " + " | ".join(cells) + " |")
-    return "\n".join(lines)
+from .bench_report import format_table
 
 
 def load_tour(path: str) -> tuple[np.ndarray, np.ndarray]:
@@ -81,7 +71,7 @@ def literal_params(items: list[str] | None) -> dict[str, object]:
 def cmd_tour(args: argparse.Namespace) -> None:
     if args.steps < 1:
         raise SystemExit(f"error: --steps must be a positive number of frames, got {args.steps}")
-    from envs.demo import record_tour
+    from .demo import record_tour
 
     out = Path(args.out)
     tour, plan = record_tour(args.scene_seed, args.rooms, args.steps, args.seed, args.width,
@@ -89,7 +79,7 @@ def cmd_tour(args: argparse.Namespace) -> None:
     out.mkdir(parents=True, exist_ok=True)
     tour.save(str(out / "tour.npz"), scene_seed=args.scene_seed, tour_seed=args.seed,
               lighting=args.lighting)
-    from envs.floorplan import save_floor_plan
+    from .floorplan import save_floor_plan
 
     save_floor_plan(plan, str(out / "floorplan.png"), tour.pose,
                     title=f"scene {args.scene_seed}, {args.rooms} rooms, {args.steps} steps")
@@ -111,16 +101,20 @@ def cmd_cluster(args: argparse.Namespace) -> None:
 
 
 def cmd_demo(args: argparse.Namespace) -> None:
-    from envs.demo import run_demo
+    from .demo import run_demo
 
-    run_demo(args.out, scene_seed=args.scene_seed, n_rooms=args.rooms, steps=args.steps,
-             seed=args.seed)
+    table = run_demo(args.out, scene_seed=args.scene_seed, n_rooms=args.rooms, steps=args.steps,
+                     seed=args.seed)
+    if args.docs:
+        body = (f"Scene seed {args.scene_seed}, {args.rooms} rooms, {args.steps} frames of "
+                f"512x128 panoramas, SIFT, tour seed {args.seed}.\n\n{format_table(table)}")
+        write_section(args.docs, "demo", body, args.command_line)
 
 
 def cmd_bench(args: argparse.Namespace) -> None:
     from dataclasses import replace
 
-    from placeclust.bench import PRESETS, run_bench
+    from .bench import PRESETS, run_bench
 
     preset = "quick" if args.quick else args.preset
     overrides = {name: tuple(value) for name, value in (
@@ -134,8 +128,11 @@ def cmd_bench(args: argparse.Namespace) -> None:
     if args.workers < 0:
         raise ValueError(f"--workers must be 0 (one per core) or more, got {args.workers}")
     matrix = replace(PRESETS[preset], **overrides)
-    run_bench(matrix, args.out or f"runs/bench-{preset}", args.workers, args.executor,
-              args.ray_address, progress=not args.quiet)
+    out = Path(args.out or f"runs/bench-{preset}")
+    run_bench(matrix, out, args.workers, args.executor, args.ray_address,
+              progress=not args.quiet)
+    if args.docs:  # the section is named after the report folder: runs/panorama -> panorama
+        write_section(args.docs, out.name, (out / "results.md").read_text(), args.command_line)
 
 
 def _add_bench(sub: argparse._SubParsersAction) -> None:
@@ -162,7 +159,14 @@ def _add_bench(sub: argparse._SubParsersAction) -> None:
     bench.add_argument("--executor", choices=("process", "ray"), default="process")
     bench.add_argument("--ray-address", help="Ray cluster to join (default: start a local one)")
     bench.add_argument("--quiet", action="store_true")
+    _add_docs(bench)
     bench.set_defaults(func=cmd_bench)
+
+
+def _add_docs(parser: argparse.ArgumentParser) -> None:
+    parser.add_argument("--docs", metavar="FILE",
+                        help="also write the table into FILE's generated section of this "
+                        "command (docs/benchmarks.md; see placeclust.docs_section)")
 
 
 def build_parser() -> argparse.ArgumentParser:
@@ -198,13 +202,16 @@ def build_parser() -> argparse.ArgumentParser:
     demo.add_argument("--rooms", type=int, default=4)
     demo.add_argument("--steps", type=int, default=1000)
     demo.add_argument("--seed", type=int, default=0)
+    _add_docs(demo)
     demo.set_defaults(func=cmd_demo)
     _add_bench(sub)
     return parser
 
 
 def main(argv: list[str] | None = None) -> None:
+    argv = sys.argv[1:] if argv is None else list(argv)
     args = build_parser().parse_args(argv)
+    args.command_line = shlex.join(["placeclust", *argv])
     try:
         args.func(args)
     except ValueError as exc:  # bad input named by the library: no traceback for users

@@ -10,9 +10,9 @@ from dataclasses import replace
 import numpy as np
 import pytest
 
-from placeclust import bench
-from placeclust.bench import Matrix, RunStore, run_bench
-from placeclust.cli import main
+from envs import bench
+from envs.bench import Matrix, RunStore, run_bench
+from envs.cli import main
 from placeclust.metrics import score
 
 # 2 rooms, 12 frames a room: a few seconds a tour
@@ -170,3 +170,18 @@ def test_condition_names_are_the_simulators():
     from envs.changes import CONDITIONS as ENV_CONDITIONS
 
     assert bench.CONDITIONS == tuple(ENV_CONDITIONS)
+
+
+def test_summary_reports_the_worst_run_and_the_share_meeting_the_bar() -> None:
+    from envs.bench_report import summary_table
+
+    def row(precision: float, nmi: float, places: int) -> dict:
+        return {"algo": "online", "features": "sift", "condition": "day", "params": (),
+                "precision": precision, "recall": 0.5, "nmi": nmi, "ari": 0.5,
+                "n_places": places, "n_rooms": 4, "ms_per_frame": 10.0}
+
+    table = summary_table([row(0.99, 0.85, 6), row(0.93, 0.90, 8), row(0.97, 0.82, 9)])
+    line = table.splitlines()[2]
+    assert "| 0.963 (0.930) |" in line  # precision: mean (worst)
+    assert "| 1.92 (2.25) |" in line  # places per room: mean (most)
+    assert "| 1/3 |" in line  # only the first run meets all three bars

@@ -142,7 +142,7 @@ def _check_choices(name: str, values: tuple[str, ...], allowed: tuple[str, ...])
 PRESETS: dict[str, Matrix] = {
     # minutes on 2 cores: every recognizer, two feature types, three 4-room worlds, day>night
     "quick": Matrix(),
-    # the README's table: hours on 2 cores, resumable
+    # every axis: hours on 2 cores, resumable
     "full": Matrix(features=("sift", "kaze", "orb"), scenes=(0, 1, 2), rooms=(4, 8, 12),
                    conditions=("day", "night", "day>night", "day>moved", "day>noisy"),
                    tour_seeds=(0, 1),
@@ -290,8 +290,8 @@ def _tour_rows(specs: tuple[RunSpec, ...]) -> Iterator[dict]:
 
 
 def _record(spec: RunSpec) -> tuple[np.ndarray, np.ndarray]:
-    from envs.changes import CONDITIONS as ENV_CONDITIONS  # the simulator only in workers
-    from envs.demo import record_tour
+    from .changes import CONDITIONS as ENV_CONDITIONS  # the simulator only in workers
+    from .demo import record_tour
 
     steps = spec.steps_per_room * spec.world_rooms
     tour, _ = record_tour(spec.scene_seed, spec.world_rooms, steps, spec.tour_seed, spec.width,
@@ -332,14 +332,14 @@ def execute(jobs: list[Job], store: RunStore, workers: int = 0, executor: str = 
         executor: ``"process"`` (a local ``spawn`` pool, the default) or ``"ray"``.
         ray_address: with ``"ray"``, the cluster to join (None starts a local instance).
     """
-    from tqdm import tqdm
+    from placeclust.progress import progress as progress_bar
 
     if executor not in ("process", "ray"):
         raise ValueError(f"unknown executor {executor!r}; choose 'process' or 'ray'")
     workers = workers or os.cpu_count() or 1
     # the biggest tours first, so the last job to finish is a short one
     jobs = sorted(jobs, key=lambda j: -sum(s.world_rooms for s in j.specs))
-    bar = tqdm(total=len(jobs), disable=not progress, desc="bench", unit="job")
+    bar = progress_bar(total=len(jobs), enabled=progress, desc="bench", unit="job")
     run = _execute_ray if executor == "ray" else _execute_local
     try:
         for rows in run(jobs, store, workers, ray_address):
@@ -397,7 +397,7 @@ def run_bench(matrix: Matrix, out: str | os.PathLike, workers: int = 0, executor
     ``results.csv``, ``results.md`` (also printed), ``precision.png`` and ``latency.png``.
     Returns the rows of ``results.csv``.
     """
-    from placeclust.bench_report import write_report
+    from .bench_report import write_report
 
     folder = Path(out)
     store = RunStore(folder / "runs")

@@ -1,3 +1,5 @@
+"""Fixtures shared by the library and the command tests."""
+
 import numpy as np
 import pytest
 

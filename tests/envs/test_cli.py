@@ -5,14 +5,14 @@ import sys
 import numpy as np
 import pytest
 
-from placeclust.cli import main
+from envs.cli import main
 
 
 def test_cluster_cli_writes_consistent_metrics(tmp_path, two_places):
     frames, truth = two_places
     np.savez(tmp_path / "tour.npz", frames=frames, room=truth, pose=np.zeros((len(truth), 3)))
     out = tmp_path / "res"
-    proc = subprocess.run([sys.executable, "-m", "placeclust.cli", "cluster", "--algo", "online",
+    proc = subprocess.run([sys.executable, "-m", "envs.cli", "cluster", "--algo", "online",
                            "--features", "orb", "--tour", str(tmp_path / "tour.npz"), "--out",
                            str(out), "--quiet"], capture_output=True, text=True, check=True)
     assert "precision" in proc.stdout
@@ -26,7 +26,7 @@ def test_cluster_cli_writes_consistent_metrics(tmp_path, two_places):
 
 def test_cluster_cli_names_bad_input(tmp_path):
     def cli(*args):
-        return subprocess.run([sys.executable, "-m", "placeclust.cli", "cluster", *args,
+        return subprocess.run([sys.executable, "-m", "envs.cli", "cluster", *args,
                                "--out", str(tmp_path / "o")], capture_output=True, text=True)
 
     missing = cli("--tour", str(tmp_path / "nope.npz"))
@@ -48,7 +48,7 @@ def test_bad_input_leaves_earlier_results_alone(tmp_path, two_places):
     np.savez(tmp_path / "noroom.npz", frames=frames)
 
     def cli(*args):
-        return subprocess.run([sys.executable, "-m", "placeclust.cli", *args],
+        return subprocess.run([sys.executable, "-m", "envs.cli", *args],
                               capture_output=True, text=True)
 
     for args, message in [

@@ -7,13 +7,28 @@ from pathlib import Path
 
 import numpy as np
 
-from placeclust.bench import RunSpec
+from .bench import RunSpec
 
 SPEC_COLUMNS = ["key", *RunSpec.__dataclass_fields__]
 METRIC_COLUMNS = ["precision", "recall", "f_measure", "nmi", "ari", "n_places", "n_rooms",
                   "unknown_rate", "matching_rate", "mean_AC", "mean_TP", "mean_P",
                   "ms_per_frame", "ms_p95", "ms_mean", "map_precision"]
 TABLE_KEYS = ("precision", "recall", "nmi", "ari")
+
+
+METRIC_KEYS = ("precision", "recall", "f_measure", "nmi", "ari", "n_places", "n_rooms",
+              "ms_per_frame")
+
+
+def format_table(rows: dict[str, dict[str, float]], keys: tuple[str, ...] = METRIC_KEYS) -> str:
+    """A markdown table: one row per method, one column per metric."""
+    head = "| method | " + " | ".join(keys) + " |"
+    sep = "|---" * (len(keys) + 1) + "|"
+    lines = [head, sep]
+    for name, m in rows.items():
+        cells = [f"{m[k]:.3f}" if isinstance(m[k], float) else str(m[k]) for k in keys]
+        lines.append(f"| {name} | " + " | ".join(cells) + " |")
+    return "\n".join(lines)
 
 
 def params_text(params: object) -> str:
@@ -40,17 +55,34 @@ def _methods(rows: list[dict]) -> dict[tuple[str, str, str], list[dict]]:
     return groups
 
 
+#: The bar a tour meets: precision, NMI at least, places per room at most (the 360° bar).
+BAR = {"precision": 0.95, "nmi": 0.80, "places_per_room": 2.0}
+
+
+def meets_bar(row: dict) -> bool:
+    """Whether one run meets :data:`BAR` on all three counts."""
+    return (row["precision"] >= BAR["precision"] and row["nmi"] >= BAR["nmi"]
+            and row["n_places"] <= BAR["places_per_room"] * row["n_rooms"])
+
+
 def summary_table(rows: list[dict]) -> str:
-    """Mean ± std over worlds and tours per method and condition, as in seed 000's Fig. 2."""
-    lines = ["| method | condition | " + " | ".join(TABLE_KEYS)
-             + " | places/rooms | ms/frame | runs |", "|---" * (len(TABLE_KEYS) + 5) + "|"]
+    """Per method and condition, the distribution over worlds and tours, as in seed 000's Fig. 2.
+
+    Each metric is the mean with the worst run in brackets (lowest precision, recall, NMI and
+    ARI; most places per room); ``bar`` is the share of runs meeting :data:`BAR`.
+    """
+    lines = ["| method | condition | " + " | ".join(f"{k} (worst)" for k in TABLE_KEYS)
+             + " | places/rooms (worst) | bar | ms/frame | runs |",
+             "|---" * (len(TABLE_KEYS) + 6) + "|"]
     for (algo, feat, condition), sel in _methods(rows).items():
-        cells = [f"{np.mean([r[k] for r in sel]):.3f} ± {np.std([r[k] for r in sel]):.3f}"
+        cells = [f"{np.mean([r[k] for r in sel]):.3f} ({min(r[k] for r in sel):.3f})"
                  for k in TABLE_KEYS]
-        ratio = np.mean([r["n_places"] / r["n_rooms"] for r in sel])
+        ratios = [r["n_places"] / r["n_rooms"] for r in sel]
+        met = sum(map(meets_bar, sel))
         ms = np.median([r["ms_per_frame"] for r in sel])
         lines.append(f"| {algo} ({feat}) | {condition} | " + " | ".join(cells)
-                     + f" | {ratio:.2f} | {ms:.1f} | {len(sel)} |")
+                     + f" | {np.mean(ratios):.2f} ({max(ratios):.2f}) | {met}/{len(sel)} | "
+                     f"{ms:.1f} | {len(sel)} |")
     return "\n".join(lines)
 
 

@@ -1,0 +1,73 @@
+"""The wheel a user installs: built from the repository, installed into a fresh virtual
+environment and used from another directory, it makes ``PlaceNav-v0`` and runs
+``placeclust tour`` and ``placeclust cluster`` (``docs/design.md``, "Packaging")."""
+
+import shutil
+import subprocess
+import sys
+import sysconfig
+import venv
+import zipfile
+from pathlib import Path
+
+import pytest
+
+ROOT = Path(__file__).resolve().parent.parent
+
+
+@pytest.fixture(scope="module")
+def wheel(tmp_path_factory) -> Path:
+    # built from a copy, so setuptools' build/ and egg-info never land in the clone
+    src = tmp_path_factory.mktemp("src") / "placeclust"
+    shutil.copytree(ROOT, src, ignore=shutil.ignore_patterns(
+        ".git", ".venv", "runs", "build", "dist", "*.egg-info", "__pycache__", ".*_cache"))
+    out = tmp_path_factory.mktemp("dist")
+    subprocess.run([sys.executable, "-m", "pip", "wheel", "--quiet", "--no-deps",
+                    "--no-build-isolation", "--wheel-dir", str(out), str(src)], check=True)
+    (path,) = out.glob("placeclust-*.whl")
+    return path
+
+
+def test_the_wheel_holds_two_packages_and_the_assets(wheel):
+    names = zipfile.ZipFile(wheel).namelist()
+    tops = {n.split("/")[0] for n in names if not n.split("/")[0].endswith(".dist-info")}
+    assert tops == {"placeclust", "placeclust_envs"}  # no top-level envs or train to shadow
+    assert {"placeclust_envs/assets/robot.xml",
+            "placeclust_envs/assets/room_styles.json"} <= set(names)
+    assert not any("policies" in n for n in names)  # the agents' files stay in the clone
+    entry = zipfile.ZipFile(wheel).read(next(n for n in names if n.endswith("entry_points.txt")))
+    assert b"placeclust = placeclust_envs.cli:main" in entry
+
+
+def test_the_installed_wheel_works_outside_the_repository(wheel, tmp_path):
+    env = tmp_path / "venv"
+    venv.create(env, with_pip=True)
+    python = env / "bin" / "python"
+    # the dependencies come from this interpreter's site-packages (a plain path, so its
+    # editable-install hooks stay off); placeclust itself only from the wheel
+    purelib = subprocess.run([str(python), "-c", "import sysconfig; "
+                              "print(sysconfig.get_paths()['purelib'])"],
+                             check=True, capture_output=True, text=True).stdout.strip()
+    Path(purelib, "deps.pth").write_text(sysconfig.get_paths()["purelib"] + "\n")
+    subprocess.run([str(python), "-m", "pip", "install", "--quiet", "--no-deps", str(wheel)],
+                   check=True)
+    work = tmp_path / "elsewhere"
+    work.mkdir()
+
+    def run(*args: str) -> str:
+        return subprocess.run(args, cwd=work, check=True, capture_output=True, text=True).stdout
+
+    code = ("import gymnasium as gym, placeclust, placeclust_envs\n"
+            "env = gym.make('PlaceNav-v0', panorama_width=64, panorama_height=16)\n"
+            "obs, info = env.reset(seed=0)\n"
+            "print(obs['panorama'].shape, placeclust.__file__, placeclust_envs.__file__)")
+    out = run(str(python), "-c", code)
+    assert out.startswith("(16, 64, 3)")
+    assert str(ROOT) not in out and str(env) in out  # the installed copy, not the clone
+    placeclust = str(env / "bin" / "placeclust")
+    run(placeclust, "tour", "--rooms", "2", "--steps", "30", "--width", "128", "--height", "32",
+        "--out", "t", "--quiet")
+    assert (work / "t" / "tour.npz").is_file() and (work / "t" / "floorplan.png").is_file()
+    table = run(placeclust, "cluster", "--features", "orb", "--tour", "t/tour.npz", "--out", "c",
+                "--quiet")
+    assert "online/orb" in table and (work / "c" / "metrics.json").is_file()
