@@ -148,3 +148,24 @@ def test_async_vector_env():
         assert reward.shape == (2,) and set(info) >= {"room_id", "pose"}
     finally:
         envs_.close()
+
+
+def test_sensors_read_once_per_step_read_as_if_every_substep(make_env):
+    """Rangefinders are skipped in all but the last physics substep; the readings are those
+    of evaluating them in every substep."""
+    import mujoco
+
+    fast = make_env(panorama=False).unwrapped
+    reference = make_env(panorama=False).unwrapped
+    fast.reset(seed=3)
+    reference.reset(seed=3)
+    rng = np.random.default_rng(0)
+    for _ in range(60):
+        action = rng.uniform(-1, 1, 2).astype(np.float32)
+        obs = fast.step(action)[0]
+        reference.robot.command(reference.data, action)
+        mujoco.mj_step(reference.model, reference.data, nstep=reference.n_substeps)
+        expected = reference._observation()
+        for key in expected:
+            np.testing.assert_array_equal(obs[key], expected[key], err_msg=key)
+    assert fast.model.opt.disableflags == reference.model.opt.disableflags == 0
