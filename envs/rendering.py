@@ -88,8 +88,10 @@ class SceneRenderer:
         self._scene = mujoco.MjvScene(model, maxgeom=max(1000, 2 * model.ngeom))
         self._option = mujoco.MjvOption()
         self._option.geomgroup[_HIDDEN_GROUP] = 0
-        # the robot's own rangefinder rays are sensors, not scenery: a camera must not see them
+        # the robot's own rangefinder rays and sites are sensors, not scenery: a camera must not
+        # see them (nor draw them: each of the 17 tiny site spheres is hundreds of triangles)
         self._option.flags[mujoco.mjtVisFlag.mjVIS_RANGEFINDER] = 0
+        self._option.sitegroup[:] = 0
         self._top_option = mujoco.MjvOption()  # the top-down view for people shows the rays
         self._top_option.geomgroup[_HIDDEN_GROUP] = 0
         self._perturb = mujoco.MjvPerturb()
