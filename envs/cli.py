@@ -132,7 +132,8 @@ def cmd_bench(args: argparse.Namespace) -> None:
     run_bench(matrix, out, args.workers, args.executor, args.ray_address,
               progress=not args.quiet)
     if args.docs:  # the section is named after the report folder: runs/panorama -> panorama
-        write_section(args.docs, out.name, (out / "results.md").read_text(), args.command_line)
+        report = (out / "results.md").read_text().split("\n", 1)[1]  # less its "# " title
+        write_section(args.docs, out.name, report, args.command_line)
 
 
 def _add_bench(sub: argparse._SubParsersAction) -> None:
@@ -170,7 +171,9 @@ def _add_docs(parser: argparse.ArgumentParser) -> None:
 
 
 def build_parser() -> argparse.ArgumentParser:
-    parser = argparse.ArgumentParser(prog="placeclust", description=__doc__.splitlines()[0])
+    parser = argparse.ArgumentParser(
+        prog="placeclust", description="Unsupervised, online place recognition: record tours "
+        "in a simulated building, cluster them into places, benchmark recognizers.")
     sub = parser.add_subparsers(dest="command", required=True)
 
     tour = sub.add_parser("tour", help="drive a scripted tour and record it")
