@@ -40,7 +40,7 @@ import numpy as np
 from placeclust import __version__
 from placeclust.atomic import write_atomic
 from placeclust.features import FEATURES
-from placeclust.runner import ALGORITHMS, check_params
+from placeclust.runner import ALGORITHMS, check_params, recognizer_class
 
 CROSS_ALGOS = ("online",)  # recognizers with a fixed-map (localize-only) mode
 CONDITIONS = ("day", "cloudy", "night", "moved", "noisy")  # the names of envs.changes.CONDITIONS
@@ -95,7 +95,8 @@ class Matrix:
     params: tuple[tuple[str, object], ...] = ()
 
     def __post_init__(self) -> None:
-        _check_choices("algos", self.algos, ALGORITHMS)
+        for algo in self.algos:  # a name of ALGORITHMS or package.module:Class
+            recognizer_class(algo)
         for algo in self.algos:  # every recognizer of the matrix must take every param
             check_params(algo, (name for name, _ in self.params))
         _check_choices("features", self.features + self.latency_features, FEATURES)
@@ -139,7 +140,8 @@ def _check_choices(name: str, values: tuple[str, ...], allowed: tuple[str, ...])
         raise ValueError(f"unknown {name} {bad}; choose from {list(allowed)}")
 
 
-PRESETS: dict[str, Matrix] = {
+#: the matrix's default axes by size (``placeclust bench --size``)
+SIZES: dict[str, Matrix] = {
     # minutes on 2 cores: every recognizer, two feature types, three 4-room worlds, day>night
     "quick": Matrix(),
     # every axis: hours on 2 cores, resumable

@@ -8,6 +8,7 @@ from pathlib import Path
 import numpy as np
 
 from .bench import RunSpec
+from .splits import split_of
 
 SPEC_COLUMNS = ["key", *RunSpec.__dataclass_fields__]
 METRIC_COLUMNS = ["precision", "recall", "f_measure", "nmi", "ari", "n_places", "n_rooms",
@@ -84,6 +85,14 @@ def summary_table(rows: list[dict]) -> str:
                      + f" | {np.mean(ratios):.2f} ({max(ratios):.2f}) | {met}/{len(sel)} | "
                      f"{ms:.1f} | {len(sel)} |")
     return "\n".join(lines)
+
+
+def worlds_line(rows: list[dict]) -> str:
+    """Which scene seeds the runs come from, and their split (:mod:`envs.splits`)."""
+    seeds = sorted({int(r["scene_seed"]) for r in rows})
+    splits = sorted({split_of(s) for s in seeds})
+    return (f"Scene seeds {', '.join(map(str, seeds))}: the {' and '.join(splits)} "
+            f"split{'s' if len(splits) > 1 else ''}.")
 
 
 def latency_table(latency: list[dict]) -> str:
@@ -163,7 +172,7 @@ def write_report(rows: list[dict], latency: list[dict], folder: str | Path, echo
     write_csv(rows, folder / "results.csv")
     parts = ["# placeclust bench", ""]
     if rows:
-        parts += [summary_table(rows), ""]
+        parts += [worlds_line(rows), "", summary_table(rows), ""]
         plot_precision(rows, folder / "precision.png")
     if latency:
         parts += ["Latency as the map grows (synthetic places, 512×128):", "",

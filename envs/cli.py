@@ -15,11 +15,13 @@ from pathlib import Path
 
 import numpy as np
 
+from placeclust import PRESETS
 from placeclust.docs_section import write_section
 from placeclust.features import FEATURES
 from placeclust.runner import ALGORITHMS, check_params, evaluate, run
 
 from .bench_report import format_table
+from .splits import SPLITS, check_split, scenes, split_of
 
 
 def load_tour(path: str) -> tuple[np.ndarray, np.ndarray]:
@@ -43,19 +45,12 @@ def load_tour(path: str) -> tuple[np.ndarray, np.ndarray]:
     return frames, room
 
 
-def parse_params(items: list[str] | None, algo: str) -> dict[str, object]:
-    """``NAME=VALUE`` strings as constructor arguments of ``algo``'s recognizer.
+def literal_params(items: list[str] | None) -> dict[str, object]:
+    """``NAME=VALUE`` strings as a dict of constructor arguments.
 
     Values are Python literals (``0.9``, ``None``, ``True``) or else plain strings (``clahe``).
-    Raises ``ValueError`` naming a malformed item or a name the constructor does not take.
+    Raises ``ValueError`` naming a malformed item.
     """
-    params = literal_params(items)
-    check_params(algo, params)
-    return params
-
-
-def literal_params(items: list[str] | None) -> dict[str, object]:
-    """``NAME=VALUE`` strings as a dict, values parsed as in :func:`parse_params`."""
     params: dict[str, object] = {}
     for item in items or []:
         name, sep, text = item.partition("=")
@@ -83,11 +78,27 @@ def cmd_tour(args: argparse.Namespace) -> None:
 
     save_floor_plan(plan, str(out / "floorplan.png"), tour.pose,
                     title=f"scene {args.scene_seed}, {args.rooms} rooms, {args.steps} steps")
-    print(f"wrote {out / 'tour.npz'} ({args.steps} frames) and {out / 'floorplan.png'}")
+    print(f"wrote {out / 'tour.npz'} ({args.steps} frames, scene {args.scene_seed} of the "
+          f"{split_of(args.scene_seed)!r} split) and {out / 'floorplan.png'}")
+
+
+def tour_scene(path: str) -> dict[str, object]:
+    """The scene seed a ``tour.npz`` was recorded in and its split (empty if not recorded)."""
+    with np.load(path, allow_pickle=False) as z:
+        if "scene_seed" not in z.files:
+            return {}
+        seed = int(z["scene_seed"])
+    return {"scene_seed": seed, "split": split_of(seed)}
+
+
+def preset_params(preset: str, items: list[str] | None) -> dict[str, object]:
+    """The arguments of recognizer preset ``preset``, with ``--param`` items overriding them."""
+    return {**PRESETS[preset], **literal_params(items)}
 
 
 def cmd_cluster(args: argparse.Namespace) -> None:
-    params = parse_params(args.param, args.algo)
+    params = preset_params(args.preset, args.param)
+    check_params(args.algo, params)
     frames, room = load_tour(args.tour)
     result = run(args.algo, frames, args.features, progress=not args.quiet, **params)
     metrics = evaluate(result, room)
@@ -95,7 +106,7 @@ def cmd_cluster(args: argparse.Namespace) -> None:
     out.mkdir(parents=True, exist_ok=True)
     np.save(out / "assignments.npy", result.assignments)
     meta = {"algo": args.algo, "features": args.features, "tour": str(args.tour),
-            "params": params}
+            "preset": args.preset, "params": params, **tour_scene(args.tour)}
     (out / "metrics.json").write_text(json.dumps({**meta, **metrics}, indent=2))
     print(format_table({f"{args.algo}/{args.features}": metrics}))
 
@@ -111,24 +122,34 @@ def cmd_demo(args: argparse.Namespace) -> None:
         write_section(args.docs, "demo", body, args.command_line)
 
 
-def cmd_bench(args: argparse.Namespace) -> None:
+def bench_plan(args: argparse.Namespace) -> tuple[object, Path]:
+    """The benchmark matrix and report folder that ``placeclust bench`` ARGS ask for."""
     from dataclasses import replace
 
-    from .bench import PRESETS, run_bench
+    from .bench import SIZES
 
-    preset = "quick" if args.quick else args.preset
+    size = "quick" if args.quick else args.size
+    if args.split:
+        args.scenes = args.scenes or scenes(args.split)
+        check_split(args.split, args.scenes)
     overrides = {name: tuple(value) for name, value in (
         ("algos", args.algos), ("features", args.features), ("scenes", args.scenes),
         ("rooms", args.rooms), ("conditions", args.conditions), ("tour_seeds", args.tour_seeds),
         ("latency_sizes", args.latency_sizes)) if value is not None}
     if args.steps_per_room is not None:
         overrides["steps_per_room"] = args.steps_per_room
-    if args.param:
-        overrides["params"] = tuple(literal_params(args.param).items())
+    params = preset_params(args.preset, args.param)
+    if params:
+        overrides["params"] = tuple(params.items())
     if args.workers < 0:
         raise ValueError(f"--workers must be 0 (one per core) or more, got {args.workers}")
-    matrix = replace(PRESETS[preset], **overrides)
-    out = Path(args.out or f"runs/bench-{preset}")
+    return replace(SIZES[size], **overrides), Path(args.out or f"runs/bench-{size}")
+
+
+def cmd_bench(args: argparse.Namespace) -> None:
+    from .bench import run_bench
+
+    matrix, out = bench_plan(args)
     run_bench(matrix, out, args.workers, args.executor, args.ray_address,
               progress=not args.quiet)
     if args.docs:  # the section is named after the report folder: runs/panorama -> panorama
@@ -139,11 +160,18 @@ def cmd_bench(args: argparse.Namespace) -> None:
 def _add_bench(sub: argparse._SubParsersAction) -> None:
     bench = sub.add_parser("bench", help="the benchmark matrix: results.csv, table and plots",
                            description="Recognizers x features x worlds x tour seeds, in "
-                           "parallel, resuming finished runs. The axes default to the preset.")
-    bench.add_argument("--preset", choices=("quick", "full"), default="full")
-    bench.add_argument("--quick", action="store_true", help="same as --preset quick")
-    bench.add_argument("--out", help="report folder (default runs/bench-PRESET)")
-    bench.add_argument("--algos", nargs="+", choices=ALGORITHMS)
+                           "parallel, resuming finished runs. The axes default to --size's.")
+    bench.add_argument("--size", choices=("quick", "full"), default="full",
+                       help="the matrix's default axes: quick (minutes) or full (hours)")
+    bench.add_argument("--quick", action="store_true", help="same as --size quick")
+    _add_preset(bench)
+    bench.add_argument("--split", choices=tuple(SPLITS),
+                       help="take the scenes from this split (its first 4 unless --scenes "
+                       "names some of it): train to tune, val to choose, test to report")
+    bench.add_argument("--out", help="report folder (default runs/bench-SIZE)")
+    bench.add_argument("--algos", nargs="+", metavar="ALGO",
+                       help=f"any of {', '.join(ALGORITHMS)}, or package.module:Class for a "
+                       "recognizer of your own (placeclust.checks)")
     bench.add_argument("--features", nargs="+", choices=FEATURES)
     bench.add_argument("--scenes", nargs="+", type=int)
     bench.add_argument("--rooms", nargs="+", type=int)
@@ -155,13 +183,21 @@ def _add_bench(sub: argparse._SubParsersAction) -> None:
                        help="map sizes of the latency sweep (none: skip it)")
     bench.add_argument("--param", action="append", metavar="NAME=VALUE",
                        help="a constructor argument of every recognizer run (repeatable), "
-                            "e.g. view=sides")
+                            "e.g. view=sides; overrides the preset's")
     bench.add_argument("--workers", type=int, default=0, help="processes; 0: one per core")
     bench.add_argument("--executor", choices=("process", "ray"), default="process")
     bench.add_argument("--ray-address", help="Ray cluster to join (default: start a local one)")
     bench.add_argument("--quiet", action="store_true")
     _add_docs(bench)
     bench.set_defaults(func=cmd_bench)
+
+
+def _add_preset(parser: argparse.ArgumentParser) -> None:
+    described = "; ".join(
+        f"{name}: " + (", ".join(f"{k}={v}" for k, v in args.items()) or "the library defaults "
+                       "(seed 000 as published)") for name, args in PRESETS.items())
+    parser.add_argument("--preset", choices=tuple(PRESETS), default="paper",
+                        help=f"the recognizer's configuration ({described})")
 
 
 def _add_docs(parser: argparse.ArgumentParser) -> None:
@@ -189,12 +225,16 @@ def build_parser() -> argparse.ArgumentParser:
     tour.set_defaults(func=cmd_tour)
 
     cluster = sub.add_parser("cluster", help="cluster a recorded tour and score it")
-    cluster.add_argument("--algo", choices=ALGORITHMS, default="online")
+    cluster.add_argument("--algo", default="online", metavar="ALGO",
+                         help=f"one of {', '.join(ALGORITHMS)} (default online), or "
+                         "package.module:Class for a recognizer of your own (placeclust.checks)")
     cluster.add_argument("--features", choices=FEATURES, default="sift")
     cluster.add_argument("--tour", required=True, help="path to tour.npz")
+    _add_preset(cluster)
     cluster.add_argument("--param", action="append", metavar="NAME=VALUE",
                          help="a constructor argument of the recognizer, e.g. "
-                         "t_new_cluster=0.9 or scale=0.75 (repeatable)")
+                         "t_new_cluster=0.9 or scale=0.75 (repeatable; overrides the "
+                         "preset's)")
     cluster.add_argument("--out", required=True)
     cluster.add_argument("--quiet", action="store_true")
     cluster.set_defaults(func=cmd_cluster)

@@ -9,7 +9,7 @@ from placeclust.allocator import keep_frame_buffers
 # before any frame is processed: per-frame buffers stay in the heap (see placeclust.allocator)
 keep_frame_buffers()
 
-from placeclust.online import PANORAMA, UNKNOWN, OnlinePlaceClustering  # noqa: E402
+from placeclust.online import PANORAMA, PRESETS, UNKNOWN, OnlinePlaceClustering  # noqa: E402
 
-__all__ = ["PANORAMA", "UNKNOWN", "OnlinePlaceClustering"]
+__all__ = ["PANORAMA", "PRESETS", "UNKNOWN", "OnlinePlaceClustering"]
 __version__ = "0.10.0"

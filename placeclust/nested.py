@@ -186,7 +186,8 @@ class NestedMapper:
                 earlier frames.
 
         Returns:
-            ``(location, view)``; non-key frames return the last localization.
+            ``(location, view)``; non-key frames return the last localization, a featureless
+            key frame ``(UNKNOWN, UNKNOWN)`` and leaves the map as it was.
 
         Raises:
             ValueError: ``frame`` is not a valid image or differs in size from earlier frames.
@@ -198,8 +199,8 @@ class NestedMapper:
             return self.current
         self._last_key = gray
         desc = self._describe(gray)
-        if len(desc) < 2:
-            return self.current  # featureless: nothing to track or recognise
+        if len(desc) < 2:  # featureless (a blank wall, a black frame): nothing to recognise
+            return UNKNOWN, UNKNOWN
         loc = self._locate(desc)
         view = self._place_view(loc, haar_signature(gray, self.wavelet_level))
         self.current = (loc, view)

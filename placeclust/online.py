@@ -66,6 +66,11 @@ _NONE = _Compared(UNKNOWN, np.inf, (np.zeros(0, np.int64), np.zeros(0, np.int64)
 PANORAMA: Mapping[str, object] = MappingProxyType(
     {"view": "sides", "kernel_capacity": 600, "scene_change": 0.25, "scale": 0.75})
 
+#: Named configurations of :class:`OnlinePlaceClustering` (the CLI's ``--preset``): ``paper``
+#: is seed 000's recognizer with the library's defaults, ``panorama`` is :data:`PANORAMA`.
+PRESETS: Mapping[str, Mapping[str, object]] = MappingProxyType(
+    {"paper": MappingProxyType({}), "panorama": PANORAMA})
+
 
 class OnlinePlaceClustering:
     """Unsupervised, online place recognition with union-of-features kernels.

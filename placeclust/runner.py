@@ -43,19 +43,56 @@ class Result:
 
 
 def recognizer_class(algo: str) -> type:
-    """The class of ``algo``, one of :data:`ALGORITHMS`.
+    """The class of ``algo``: one of :data:`ALGORITHMS`, or ``package.module:Class``.
+
+    A ``package.module:Class`` path loads a recognizer of your own: an online one with
+    ``learn_predict_one``, ``predict_one``, ``n_places`` and ``graph``, or an offline one with
+    ``fit_predict`` (:mod:`placeclust.checks` checks the rest). Like ``uvicorn``, the loader
+    looks in the working folder too.
 
     Raises:
-        ValueError: an unknown ``algo``; the message names the known ones.
+        ValueError: an unknown name, a path that cannot be imported, or a class that follows
+            neither protocol; the message says which.
 
     Examples:
         >>> from placeclust.runner import recognizer_class
         >>> recognizer_class("kunion").__name__
         'KAdjacentUnion'
+        >>> recognizer_class("placeclust.nested:NestedMapper").__name__
+        'NestedMapper'
     """
     cls = {**ONLINE, **OFFLINE}.get(algo)
+    if cls is None and ":" in algo:
+        cls = _load(algo)
     if cls is None:
-        raise ValueError(f"unknown algorithm {algo!r}; choose one of {ALGORITHMS}")
+        raise ValueError(f"unknown algorithm {algo!r}; choose one of {ALGORITHMS} or give "
+                         "package.module:Class")
+    return cls
+
+
+def is_offline(cls: type) -> bool:
+    """Whether recognizers of ``cls`` see the whole sequence at once (``fit_predict``)."""
+    return not hasattr(cls, "learn_predict_one") and hasattr(cls, "fit_predict")
+
+
+def _load(path: str) -> type:
+    import importlib
+    import os
+    import sys
+
+    module_name, _, name = path.partition(":")
+    if os.getcwd() not in sys.path:
+        sys.path.append(os.getcwd())
+    try:
+        module = importlib.import_module(module_name)
+    except Exception as exc:  # any import failure is the user's path or module: say so
+        raise ValueError(f"cannot import {module_name!r} for {path!r}: {exc}") from exc
+    cls = getattr(module, name, None)
+    if not isinstance(cls, type):
+        raise ValueError(f"{module_name!r} has no class {name!r}")
+    if not (hasattr(cls, "learn_predict_one") or hasattr(cls, "fit_predict")):
+        raise ValueError(f"{path} is not a recognizer: it has neither learn_predict_one "
+                         "(online) nor fit_predict (offline)")
     return cls
 
 
@@ -75,22 +112,26 @@ def check_params(algo: str, names: Iterable[str]) -> None:
             ...
         ValueError: kmeans has no parameter 't_new_cluster'; it takes ['n_clusters', ...]
     """
-    known = [n for n in inspect.signature(recognizer_class(algo).__init__).parameters
-             if n not in ("self", "features")]
+    known = [n for n in inspect.signature(recognizer_class(algo)).parameters
+             if n != "features"]
     for name in names:
         if name not in known:
             raise ValueError(f"{algo} has no parameter {name!r}; it takes {known}")
 
 
 def make(algo: str, features: str = "sift", **params: object) -> object:
-    """A fresh recognizer ``algo`` (one of :data:`ALGORITHMS`) using ``features``.
+    """A fresh recognizer ``algo`` using ``features``.
 
     Args:
-        algo: the recognizer's name.
-        features: local feature type (:data:`~placeclust.features.FEATURES`).
+        algo: one of :data:`ALGORITHMS` or ``package.module:Class``.
+        features: local feature type (:data:`~placeclust.features.FEATURES`), given to
+            recognizers whose constructor takes ``features``.
         **params: other constructor arguments.
     """
-    return recognizer_class(algo)(features=features, **params)
+    cls = recognizer_class(algo)
+    if "features" in inspect.signature(cls).parameters:
+        params = {"features": features, **params}
+    return cls(**params)
 
 
 def run(algo: str, frames: np.ndarray, features: str = "sift", progress: bool = False,
@@ -98,7 +139,7 @@ def run(algo: str, frames: np.ndarray, features: str = "sift", progress: bool = 
     """Run ``algo`` over ``frames``; online ones one frame at a time (``learn_predict_one``).
 
     Args:
-        algo: one of :data:`ALGORITHMS`.
+        algo: one of :data:`ALGORITHMS` or ``package.module:Class``.
         frames: (T, H, W[, C]) images.
         features: local feature type.
         progress: show a progress bar.
@@ -124,7 +165,7 @@ def run(algo: str, frames: np.ndarray, features: str = "sift", progress: bool = 
         [1, 1, 1, 0, 0, 0]
     """
     model = make(algo, features, **params)
-    if algo in OFFLINE:
+    if is_offline(type(model)):
         start = time.perf_counter()
         labels = np.asarray(model.fit_predict(frames), np.int64)
         per_frame = (time.perf_counter() - start) / max(1, len(frames))

@@ -31,6 +31,7 @@ from pathlib import Path
 
 import numpy as np
 
+from envs.splits import split_of
 from placeclust.docs_section import write_section
 from train.config import HYPERPARAMS, env_section
 from train.make import PLANNER_SENSORS, SENSORS, make_env
@@ -172,8 +173,10 @@ def main(argv: list[str] | None = None) -> int:
     if args.agent == "all":
         print(markdown_table(table))
         if args.docs:
+            scene = env_section(args.config, "random").get("scene_seed", 0)
             body = (f"{args.episodes} episodes drawn from seed {args.seed}, configuration "
-                    f"`{args.config.name}`, PPO acting on its mean action"
+                    f"`{args.config.name}` (scene {scene}, {split_of(scene)} split: the "
+                    "building the agents were trained in), PPO acting on its mean action"
                     f"{' (sampled)' if args.stochastic else ''}.\n\n{markdown_table(table)}")
             name = "agents-" + args.config.stem.replace("_", "-")
             command = shlex.join(["python", "-m", "train.evaluate", *argv])

@@ -25,6 +25,7 @@ from typing import Any
 
 import yaml
 
+from envs.splits import check_split
 from train.config import HYPERPARAMS, load_config
 from train.make import AGENTS, make_env
 from train.mapping import EDGES_FILE, MAP_FILE, build_map
@@ -67,6 +68,8 @@ def train(agent: str, seed: int = 0, out: Path | None = None, timesteps: int | N
         raise ValueError(f"unknown agent {agent!r}; trainable agents are {TRAINABLE}")
     cfg = load_config(agent, config_path)
     env_cfg = dict(cfg.pop("env", {}))
+    # agents train on train-split buildings only: val chooses, test reports (envs.splits)
+    check_split("train", [env_cfg.get("scene_seed", 0)])
     map_cfg = dict(cfg.pop("map", {}))
     # the command line overrides the file; the rest of cfg goes to PPO
     file_n_envs, file_timesteps = cfg.pop("n_envs", 1), cfg.pop("n_timesteps", None)

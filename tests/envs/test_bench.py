@@ -48,7 +48,7 @@ def test_matrix_leaves_cross_condition_to_online() -> None:
 
 
 @pytest.mark.parametrize("bad, message", [
-    ({"algos": ("online", "dbscan")}, "unknown algos"),
+    ({"algos": ("online", "dbscan")}, "unknown algorithm 'dbscan'"),
     ({"features": ("surf64",)}, "unknown features"),
     ({"conditions": ("dusk",)}, "unknown conditions"),
     ({"conditions": ("day>night>day",)}, "one change"),

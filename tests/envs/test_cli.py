@@ -94,3 +94,55 @@ def test_cluster_cli_names_a_bad_parameter_and_writes_nothing(tmp_path, two_plac
               "--param", param])
     assert exc.value.code == 2 and message in capsys.readouterr().err
     assert not (tmp_path / "o").exists()
+
+
+def test_presets_name_configurations_and_params_override_them(tmp_path, two_places):
+    frames, truth = two_places
+    np.savez(tmp_path / "tour.npz", frames=frames, room=truth, scene_seed=2001)
+
+    def cluster(out: str, *args: str) -> dict:
+        main(["cluster", "--features", "orb", "--tour", str(tmp_path / "tour.npz"),
+              "--out", str(tmp_path / out), "--quiet", *args])
+        return json.loads((tmp_path / out / "metrics.json").read_text())
+
+    preset = cluster("a", "--preset", "panorama")
+    spelled = cluster("b", "--param", "view=sides", "--param", "kernel_capacity=600",
+                      "--param", "scene_change=0.25", "--param", "scale=0.75")
+    assert preset["params"] == spelled["params"] == {
+        "view": "sides", "kernel_capacity": 600, "scene_change": 0.25, "scale": 0.75}
+    np.testing.assert_array_equal(np.load(tmp_path / "a" / "assignments.npy"),
+                                  np.load(tmp_path / "b" / "assignments.npy"))
+    assert preset["scene_seed"] == 2001 and preset["split"] == "test"
+    assert cluster("c", "--preset", "panorama", "--param", "scale=1.0")["params"]["scale"] == 1.0
+    assert cluster("d")["params"] == {}  # paper: the library defaults
+
+
+def test_a_preset_the_algorithm_cannot_take_is_one_line_of_error(tmp_path, two_places, capsys):
+    frames, truth = two_places
+    np.savez(tmp_path / "tour.npz", frames=frames, room=truth)
+    with pytest.raises(SystemExit) as exc:
+        main(["cluster", "--algo", "kmeans", "--preset", "panorama", "--tour",
+              str(tmp_path / "tour.npz"), "--out", str(tmp_path / "o")])
+    assert exc.value.code == 2
+    assert "kernel_capacity" in capsys.readouterr().err
+    assert not (tmp_path / "o").exists()
+
+
+@pytest.mark.parametrize("argv, scenes, error", [
+    (["--split", "test"], (2000, 2001, 2002, 2003), None),
+    (["--split", "val", "--scenes", "1007"], (1007,), None),
+    (["--split", "test", "--scenes", "3"], None, "not in the 'test' split"),
+    (["--scenes", "5"], (5,), None),
+])
+def test_bench_takes_its_scenes_from_a_split(argv, scenes, error):
+    from envs.cli import bench_plan, build_parser
+
+    args = build_parser().parse_args(["bench", "--quick", "--algos", "online", "--preset",
+                                      "panorama", *argv])
+    if error:
+        with pytest.raises(ValueError, match=error):
+            bench_plan(args)
+        return
+    matrix, out = bench_plan(args)
+    assert matrix.scenes == scenes and out.name == "bench-quick"
+    assert dict(matrix.params)["view"] == "sides"

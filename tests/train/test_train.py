@@ -178,3 +178,12 @@ def test_shipped_corridor_policies_and_map_fit_their_config(tmp_path):
     assert main(["--agent", "ppo", "--episodes", "1", "--config", str(config),
                  "--policies", str(Path(POLICIES) / "corridor"), "--json", str(out)]) == 0
     assert json.loads(out.read_text())["episodes"] == 1
+
+
+def test_agents_train_only_on_train_split_buildings(tmp_path):
+    base = Path(__file__).resolve().parents[2] / "train" / "hyperparams" / "ppo.yml"
+    test_world = tmp_path / "test_world.yml"
+    test_world.write_text(f"base: {base}\nall:\n  env:\n    scene_seed: 2000\n")
+    with pytest.raises(ValueError, match="not in the 'train' split"):
+        train("noplace", 0, tmp_path / "run", timesteps=64, config_path=test_world)
+    assert not (tmp_path / "run").exists()

@@ -1,0 +1,74 @@
+"""Every built-in recognizer passes the protocol battery, and the battery catches breaches."""
+
+import networkx as nx
+import numpy as np
+import pytest
+
+from placeclust import PANORAMA
+from placeclust.baselines import KMeansPlaces, WPGMAPlaces
+from placeclust.checks import check_recognizer
+from placeclust.kunion import KAdjacentUnion
+from placeclust.nested import NestedMapper
+from placeclust.online import OnlinePlaceClustering
+
+FAST = {"max_features": 100, "n_words": 100}  # the bag-of-words baselines' examples use these
+
+
+@pytest.mark.parametrize("cls, params", [
+    (OnlinePlaceClustering, {}),
+    (OnlinePlaceClustering, {"features": "orb"}),
+    (OnlinePlaceClustering, dict(PANORAMA)),
+    (NestedMapper, {}),
+    (KAdjacentUnion, {"window": 2}),
+    (KMeansPlaces, {"n_clusters": 2, **FAST}),
+    (WPGMAPlaces, {"n_clusters": 2, **FAST}),
+], ids=["online", "online-orb", "online-panorama", "nested", "kunion", "kmeans", "wpgma"])
+def test_every_built_in_recognizer_passes(cls, params):
+    check_recognizer(cls, params)
+
+
+class Forgetful:
+    """Online, but keeps its threshold under another name and opens a place per frame."""
+
+    def __init__(self, threshold: float = 0.5) -> None:
+        self.level = threshold
+        self.n_places = 0
+        self.graph = nx.Graph()
+
+    def learn_predict_one(self, frame: np.ndarray) -> int:
+        self.n_places += 1
+        return self.n_places - 1
+
+    def predict_one(self, frame: np.ndarray) -> int:
+        return 0
+
+
+class Shared:
+    """Keeps its places in a class attribute, so instances see each other's."""
+
+    seen: list = []
+
+    def __init__(self) -> None:
+        self.graph = nx.Graph()
+
+    @property
+    def n_places(self) -> int:
+        return len(self.seen)
+
+    def learn_predict_one(self, frame: np.ndarray) -> int:
+        if frame.dtype != np.uint8 or frame.ndim != 3:
+            raise ValueError("bad frame")
+        self.seen.append(0)
+        return 0
+
+    def predict_one(self, frame: np.ndarray) -> int:
+        return 0
+
+
+@pytest.mark.parametrize("cls, message", [
+    (Forgetful, "check_parameters_are_attributes: constructor argument 'threshold'"),
+    (Shared, "check_deterministic|check_instances_are_independent|check_online_protocol"),
+])
+def test_the_battery_names_what_a_recognizer_breaks(cls, message):
+    with pytest.raises(AssertionError, match=message):
+        check_recognizer(cls)
