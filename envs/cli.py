@@ -69,11 +69,18 @@ def cmd_tour(args: argparse.Namespace) -> None:
     from .demo import record_tour
 
     out = Path(args.out)
-    tour, plan = record_tour(args.scene_seed, args.rooms, args.steps, args.seed, args.width,
-                             args.height, args.lighting, progress=not args.quiet)
+    if args.camera == "forward":  # --width and --height size the forward image instead
+        size = {"image_width": args.width or 320, "image_height": args.height or 240}
+        tour, plan = record_tour(args.scene_seed, args.rooms, args.steps, args.seed,
+                                 lighting=args.lighting, progress=not args.quiet,
+                                 camera="forward", **size)
+    else:
+        tour, plan = record_tour(args.scene_seed, args.rooms, args.steps, args.seed,
+                                 args.width or 512, args.height or 128, args.lighting,
+                                 progress=not args.quiet)
     out.mkdir(parents=True, exist_ok=True)
     tour.save(str(out / "tour.npz"), scene_seed=args.scene_seed, tour_seed=args.seed,
-              lighting=args.lighting)
+              lighting=args.lighting, camera=args.camera)
     from .floorplan import save_floor_plan
 
     save_floor_plan(plan, str(out / "floorplan.png"), tour.pose,
@@ -83,12 +90,13 @@ def cmd_tour(args: argparse.Namespace) -> None:
 
 
 def tour_scene(path: str) -> dict[str, object]:
-    """The scene seed a ``tour.npz`` was recorded in and its split (empty if not recorded)."""
+    """The scene seed a ``tour.npz`` was recorded in, its split and camera (those recorded)."""
     with np.load(path, allow_pickle=False) as z:
+        camera = {"camera": str(z["camera"])} if "camera" in z.files else {}
         if "scene_seed" not in z.files:
-            return {}
+            return camera
         seed = int(z["scene_seed"])
-    return {"scene_seed": seed, "split": split_of(seed)}
+    return {"scene_seed": seed, "split": split_of(seed), **camera}
 
 
 def preset_params(preset: str, items: list[str] | None) -> dict[str, object]:
@@ -100,13 +108,17 @@ def cmd_cluster(args: argparse.Namespace) -> None:
     params = preset_params(args.preset, args.param)
     check_params(args.algo, params)
     frames, room = load_tour(args.tour)
+    scene = tour_scene(args.tour)
+    if scene.get("camera") == "forward" and params.get("view") == "sides":
+        raise ValueError(f"{args.tour} was recorded by the forward camera; view='sides' keeps "
+                         "the left and right of a 360° panorama, which this image does not have")
     result = run(args.algo, frames, args.features, progress=not args.quiet, **params)
     metrics = evaluate(result, room)
     out = Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
     np.save(out / "assignments.npy", result.assignments)
     meta = {"algo": args.algo, "features": args.features, "tour": str(args.tour),
-            "preset": args.preset, "params": params, **tour_scene(args.tour)}
+            "preset": args.preset, "params": params, **scene}
     (out / "metrics.json").write_text(json.dumps({**meta, **metrics}, indent=2))
     print(format_table({f"{args.algo}/{args.features}": metrics}))
 
@@ -217,8 +229,11 @@ def build_parser() -> argparse.ArgumentParser:
     tour.add_argument("--rooms", type=int, default=4)
     tour.add_argument("--steps", type=int, default=1000)
     tour.add_argument("--seed", type=int, default=0, help="start pose and route")
-    tour.add_argument("--width", type=int, default=512)
-    tour.add_argument("--height", type=int, default=128)
+    tour.add_argument("--camera", choices=("panorama", "forward"), default="panorama",
+                      help="the 360° panorama, or one perspective camera looking ahead (seed "
+                      "001's monocular camera)")
+    tour.add_argument("--width", type=int, help="image width (panorama 512, forward 320)")
+    tour.add_argument("--height", type=int, help="image height (panorama 128, forward 240)")
     tour.add_argument("--lighting", default="day", choices=("day", "cloudy", "night"))
     tour.add_argument("--out", required=True)
     tour.add_argument("--quiet", action="store_true")

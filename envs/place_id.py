@@ -77,9 +77,14 @@ class PlaceIdWrapper(gym.ObservationWrapper, gym.utils.RecordConstructorArgs):
             reset_map=reset_map)
         gym.ObservationWrapper.__init__(self, env)
         space = env.observation_space
-        if not isinstance(space, spaces.Dict) or "panorama" not in space.spaces:
-            raise ValueError("PlaceIdWrapper needs a Dict observation with a 'panorama' "
+        key = getattr(env.unwrapped, "image_key", "panorama")
+        if not isinstance(space, spaces.Dict) or key not in space.spaces:
+            raise ValueError(f"PlaceIdWrapper needs a Dict observation with an {key!r} image "
                              "(create the env with panorama=True)")
+        self.image_key = key
+        if key != "panorama" and getattr(recognizer, "view", "full") == "sides":
+            raise ValueError("the recognizer keeps the side views of a 360° panorama "
+                             "(view='sides'), but this env's camera looks forward")
         if max_places < 1:
             raise ValueError(f"max_places must be at least 1, got {max_places}")
         if recognizer is None:
@@ -119,7 +124,7 @@ class PlaceIdWrapper(gym.ObservationWrapper, gym.utils.RecordConstructorArgs):
     def observation(self, observation: dict[str, Any]) -> dict[str, Any]:
         """``observation`` with ``place_id`` from one step of the recognizer."""
         start = time.perf_counter()
-        frame = observation["panorama"]
+        frame = observation[self.image_key]
         raw = (self.recognizer.learn_predict_one(frame) if self.learn
                else self.recognizer.localize_one(frame))
         value = raw if 0 <= raw < self.max_places else self.unknown

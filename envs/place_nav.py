@@ -18,6 +18,9 @@ from .robot import MAX_RANGE, MAX_SPEED, MAX_TURN, N_RANGES, Robot, check_action
 from .scene import LIGHTING, Scene, build_scene
 
 _NO_SENSORS = int(mujoco.mjtDisableBit.mjDSBL_SENSOR)
+#: ``panorama``: the 360° ring (observation key ``panorama``); ``forward``: one perspective
+#: camera looking ahead, as seed 001's monocular camera (observation key ``image``)
+CAMERAS = ("panorama", "forward")
 
 
 class PlaceNavEnv(gym.Env, gym.utils.EzPickle):
@@ -48,7 +51,10 @@ class PlaceNavEnv(gym.Env, gym.utils.EzPickle):
     | ``heading`` | ``Box(-1, 1, (2,), float32)`` | compass: (cos, sin) of the heading |
     | ``ranges`` | ``Box(0, 4, (16,), float32)`` | ring of rangefinders 0.3 m above the floor, m, counter-clockwise from ahead |
 
-    ``panorama=False`` leaves the panorama out and skips rendering, for agents that do not look.
+    | ``image`` | ``Box(0, 255, (h, w, 3), uint8)`` | with ``camera="forward"``, instead of ``panorama``: one perspective camera looking ahead from the same mast |
+
+    ``panorama=False`` leaves the camera image out and skips rendering, for agents that do not
+    look.
 
     ## Rewards
     +1 the first time in an episode the robot enters each room (the start room counts as
@@ -81,6 +87,9 @@ class PlaceNavEnv(gym.Env, gym.utils.EzPickle):
     | ``camera_noise`` | 0 | Gaussian pixel noise, standard deviation in grey levels |
     | ``camera_blur`` | 0 | Gaussian blur, standard deviation in pixels |
     | ``changes_seed`` | 0 | seed of the changes above (see :mod:`envs.changes`); the noise also follows ``reset(seed=...)`` |
+    | ``camera`` | ``"panorama"`` | ``"panorama"``: the 360° ring; ``"forward"``: one perspective camera looking ahead, as the monocular camera of seed 001 (COLD's perspective cameras) |
+    | ``image_width``, ``image_height`` | 320, 240 | the forward camera's image, pixels |
+    | ``image_fov`` | 70.0 | the forward camera's horizontal field of view, degrees |
     | ``render_mode`` | ``None`` | ``"rgb_array"``: top-down view with the robot above the panorama |
 
     ``reset(options=...)`` accepts ``{"pose": (x, y, heading)}`` or ``{"room": name}`` to choose
@@ -114,6 +123,10 @@ class PlaceNavEnv(gym.Env, gym.utils.EzPickle):
         camera_blur: float = 0.0,
         changes_seed: int = 0,
         layout: str = "grid",
+        camera: str = "panorama",
+        image_width: int = 320,
+        image_height: int = 240,
+        image_fov: float = 70.0,
     ) -> None:
         # pickle and deepcopy rebuild the env from these arguments (a MjSpec cannot be pickled),
         # as Gymnasium's MuJoCo envs do: the copy is a fresh env that needs a reset
@@ -126,6 +139,14 @@ class PlaceNavEnv(gym.Env, gym.utils.EzPickle):
             raise ValueError(f"unknown lighting {lighting!r}; choose one of {LIGHTING}")
         if not 0.005 <= control_dt <= 1.0:
             raise ValueError(f"control_dt must be in [0.005, 1] s, got {control_dt}")
+        if camera not in CAMERAS:
+            raise ValueError(f"unknown camera {camera!r}; choose one of {CAMERAS}")
+        if not (16 <= image_width <= 2048 and 16 <= image_height <= 2048 and 10 <= image_fov < 170):
+            raise ValueError(f"forward image {image_width}x{image_height} with {image_fov}° "
+                             "field of view: need 16-2048 pixels a side and 10-170°")
+        self.camera = camera
+        self.image_key = "panorama" if camera == "panorama" else "image"
+        self._image_size = (image_width, image_height)
         self.render_mode = render_mode
         self.changes = Changes(furniture_moved, furniture_removed, posters_swapped, camera_noise,
                                camera_blur, changes_seed)
@@ -135,9 +156,15 @@ class PlaceNavEnv(gym.Env, gym.utils.EzPickle):
                           f"n_cameras={n_cameras}")
         if layout != "grid":  # grid worlds keep the fingerprint their saved maps were made with
             self._world_id += f" layout={layout}"
+        if camera != "panorama":  # a map of forward images is not a map of panoramas
+            self._world_id += f" camera={camera} {image_width}x{image_height} fov={image_fov}"
+        # vertical field of view of the forward camera from its horizontal one and its aspect
+        forward_fovy = math.degrees(2 * math.atan(math.tan(math.radians(image_fov) / 2)
+                                                  * image_height / image_width))
         self.geometry = PanoramaGeometry(panorama_width, panorama_height, n_cameras)
         self.scene: Scene = build_scene(scene_seed, n_rooms, lighting, n_cameras,
-                                        self.geometry.fovy, extra_doors, self.changes, layout)
+                                        self.geometry.fovy, extra_doors, self.changes, layout,
+                                        forward_fovy)
         self.model = self.scene.model
         self.data = mujoco.MjData(self.model)
         self.robot = Robot(self.model)
@@ -154,8 +181,9 @@ class PlaceNavEnv(gym.Env, gym.utils.EzPickle):
             "ranges": spaces.Box(0.0, MAX_RANGE, (N_RANGES,), np.float32),
         }
         if panorama:
-            shape = (panorama_height, panorama_width, 3)
-            obs_spaces = {"panorama": spaces.Box(0, 255, shape, np.uint8), **obs_spaces}
+            shape = ((panorama_height, panorama_width, 3) if camera == "panorama"
+                     else (image_height, image_width, 3))
+            obs_spaces = {self.image_key: spaces.Box(0, 255, shape, np.uint8), **obs_spaces}
         self.observation_space = spaces.Dict(obs_spaces)
 
     @property
@@ -210,7 +238,7 @@ class PlaceNavEnv(gym.Env, gym.utils.EzPickle):
         if self.render_mode != "rgb_array":
             return None
         top = self.renderer.top_down(self.data, self.plan.bounds)
-        pano = self._panorama if self._panorama is not None else self.renderer.panorama(self.data)
+        pano = self._panorama if self._panorama is not None else self._image()
         h = max(1, round(pano.shape[0] * top.shape[1] / pano.shape[1]))
         import cv2  # only rendering for people needs resizing
 
@@ -267,11 +295,16 @@ class PlaceNavEnv(gym.Env, gym.utils.EzPickle):
             "ranges": self.robot.ranges(self.data).astype(np.float32),
         }
         if self.with_panorama:
-            self._panorama = self.renderer.panorama(self.data)
+            self._panorama = self._image()
             if self.changes.camera:
                 self._panorama = degrade(self._panorama, self.changes, self._camera_rng)
-            obs["panorama"] = self._panorama
+            obs[self.image_key] = self._panorama
         return obs
+
+    def _image(self) -> np.ndarray:
+        if self.camera == "panorama":
+            return self.renderer.panorama(self.data)
+        return self.renderer.perspective(self.data, "robot/forward", *self._image_size)
 
     def _info(self) -> dict[str, Any]:
         pose = self.robot.pose(self.data)

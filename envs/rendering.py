@@ -157,6 +157,28 @@ class SceneRenderer:
         return cv2.remap(self._strip, self._map_x, self._map_y, cv2.INTER_LINEAR,
                          borderMode=cv2.BORDER_REPLICATE)
 
+    def perspective(self, data: mujoco.MjData, camera: str, width: int, height: int
+                    ) -> np.ndarray:
+        """The (height, width, 3) uint8 image of the model's camera ``camera`` (no culling)."""
+        self._gl.make_current()
+        m = self.model
+        groups = self._groups.copy()
+        groups[self._robot_geoms] = _HIDDEN_GROUP
+        cam = mujoco.MjvCamera()
+        cam.type = mujoco.mjtCamera.mjCAMERA_FIXED
+        cam.fixedcamid = m.camera(camera).id
+        image = np.empty((height, width, 3), np.uint8)
+        try:
+            m.geom_group[:] = groups
+            mujoco.mjv_updateScene(m, data, self._option, self._perturb, cam,
+                                   mujoco.mjtCatBit.mjCAT_ALL, self._scene)
+        finally:
+            m.geom_group[:] = self._groups
+        rect = mujoco.MjrRect(0, 0, width, height)
+        mujoco.mjr_render(rect, self._scene, self._ctx)
+        mujoco.mjr_readPixels(image, None, rect, self._ctx)
+        return np.ascontiguousarray(image[::-1])  # OpenGL reads the bottom row first
+
     def top_down(self, data: mujoco.MjData, bounds: tuple[float, float, float, float]
                  ) -> np.ndarray:
         """An orthographic view from above of the rectangle ``bounds`` = (x0, y0, x1, y1)."""

@@ -62,6 +62,7 @@ def build_scene(
     extra_doors: float = 0.5,
     changes: Changes | None = None,
     layout: str = "grid",
+    forward_fovy: float = 55.4,
 ) -> Scene:
     """Generate a floor plan from ``scene_seed`` and compile it into a MuJoCo model.
 
@@ -75,6 +76,7 @@ def build_scene(
         changes: furniture and posters moved since the building was new
             (:class:`~envs.changes.Changes`; its camera fields are the env's business).
         layout: one of :data:`LAYOUTS`; ``corridor`` ignores ``extra_doors``.
+        forward_fovy: vertical field of view of the forward-looking camera, degrees.
 
     Returns:
         The compiled :class:`Scene`.
@@ -100,7 +102,7 @@ def build_scene(
     _add_walls(spec, plan, rng)
     swap_posters(spec, changes)
     _add_furniture(spec, plan, rng)
-    cams = _add_robot(spec, n_cameras, camera_fovy)
+    cams = _add_robot(spec, n_cameras, camera_fovy, forward_fovy)
     model = spec.compile()
     return Scene(plan, spec, model, cams, lighting)
 
@@ -239,7 +241,8 @@ def _add_furniture(spec: mujoco.MjSpec, plan: FloorPlan, rng: np.random.Generato
             )
 
 
-def _add_robot(spec: mujoco.MjSpec, n_cameras: int, fovy: float) -> tuple[str, ...]:
+def _add_robot(spec: mujoco.MjSpec, n_cameras: int, fovy: float, forward_fovy: float
+               ) -> tuple[str, ...]:
     robot = mujoco.MjSpec.from_file(str(textures.ASSETS / "robot.xml"))
     mount = robot.site("camera_mount")
     base = robot.body("base")
@@ -251,6 +254,10 @@ def _add_robot(spec: mujoco.MjSpec, n_cameras: int, fovy: float) -> tuple[str, .
         cam.alt.type = mujoco.mjtOrientation.mjORIENTATION_XYAXES
         cam.alt.xyaxes = [*right, 0.0, 0.0, 1.0]
         names.append(f"pano{k}")
+    # one perspective camera looking ahead, as the monocular camera of seed 001 (COLD)
+    forward = base.add_camera(name="forward", pos=list(mount.pos), fovy=forward_fovy)
+    forward.alt.type = mujoco.mjtOrientation.mjORIENTATION_XYAXES
+    forward.alt.xyaxes = [0.0, -1.0, 0.0, 0.0, 0.0, 1.0]
     _add_range_sites(base)
     frame = spec.worldbody.add_frame()
     frame.attach_body(base, "robot/", "")

@@ -166,15 +166,17 @@ def drive_tour(env: gym.Env, steps: int, seed: int = 0, progress: bool = False) 
     """Drive ``steps`` steps of a scripted tour (:func:`tour_steps`) and record it.
 
     Returns:
-        The recorded :class:`Tour`; frame ``t`` is the observation after ``t`` steps.
+        The recorded :class:`Tour`; frame ``t`` is the camera's image (the panorama, or the
+        forward camera's) after ``t`` steps.
     """
+    key = env.unwrapped.image_key
     frames = rooms = poses = None
     bar = progress_bar(total=steps, enabled=progress, desc="tour", unit="frame")
     for t, (obs, info) in enumerate(tour_steps(env, steps, seed)):
         if frames is None:
-            frames = np.empty((steps, *obs["panorama"].shape), np.uint8)
+            frames = np.empty((steps, *obs[key].shape), np.uint8)
             rooms, poses = np.empty(steps, np.int64), np.empty((steps, 3))
-        frames[t], rooms[t], poses[t] = obs["panorama"], info["room_id"], info["pose"]
+        frames[t], rooms[t], poses[t] = obs[key], info["room_id"], info["pose"]
         bar.update(1)
     bar.close()
     return Tour(frames, rooms, poses, [r.name for r in env.unwrapped.plan.rooms])

@@ -25,3 +25,8 @@ def test_tiny_demo_writes_a_consistent_report(tmp_path):
         assert img.shape[0] > 100 and img.shape[1] > 100 and img.std() > 5, name
     gif = iio.imread(tmp_path / "tour.gif", index=None)
     assert gif.shape[0] == 4 and gif[0].std() > 5  # one frame in 10
+    # the same route seen by the forward camera: a row for each seed's recognizer
+    for name, label in (("nested_forward", "nested (seed 001), forward camera"),
+                        ("online_forward", "online (seed 000), forward camera")):
+        places = np.load(tmp_path / f"assignments_{name}.npy")
+        assert len(places) == 40 and metrics[label]["n_rooms"] >= 1
