@@ -18,9 +18,10 @@ from placeclust.kunion import KAdjacentUnion
 from placeclust.metrics import latency_summary, score
 from placeclust.nested import NestedMapper
 from placeclust.online import OnlinePlaceClustering
+from placeclust.stream import StreamPlaces
 
-ALGORITHMS = ("online", "nested", "kunion", "wpgma", "kmeans")
-ONLINE = {"online": OnlinePlaceClustering, "nested": NestedMapper}
+ALGORITHMS = ("online", "nested", "kunion", "wpgma", "kmeans", "stream")
+ONLINE = {"online": OnlinePlaceClustering, "nested": NestedMapper, "stream": StreamPlaces}
 OFFLINE = {"kunion": KAdjacentUnion, "wpgma": WPGMAPlaces, "kmeans": KMeansPlaces}
 
 

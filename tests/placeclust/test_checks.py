@@ -10,6 +10,7 @@ from placeclust.checks import check_recognizer
 from placeclust.kunion import KAdjacentUnion
 from placeclust.nested import NestedMapper
 from placeclust.online import OnlinePlaceClustering
+from placeclust.stream import StreamPlaces
 
 FAST = {"max_features": 100, "n_words": 100}  # the bag-of-words baselines' examples use these
 
@@ -22,7 +23,10 @@ FAST = {"max_features": 100, "n_words": 100}  # the bag-of-words baselines' exam
     (KAdjacentUnion, {"window": 2}),
     (KMeansPlaces, {"n_clusters": 2, **FAST}),
     (WPGMAPlaces, {"n_clusters": 2, **FAST}),
-], ids=["online", "online-orb", "online-panorama", "nested", "kunion", "kmeans", "wpgma"])
+    (StreamPlaces, {}),
+    (StreamPlaces, {"clusterer": "streamkmeans", "n_clusters": 2}),
+], ids=["online", "online-orb", "online-panorama", "nested", "kunion", "kmeans", "wpgma",
+        "dbstream", "streamkmeans"])
 def test_every_built_in_recognizer_passes(cls, params):
     check_recognizer(cls, params)
 
