@@ -85,8 +85,8 @@ def cmd_tour(args: argparse.Namespace) -> None:
 
     save_floor_plan(plan, str(out / "floorplan.png"), tour.pose,
                     title=f"scene {args.scene_seed}, {args.rooms} rooms, {args.steps} steps")
-    print(f"wrote {out / 'tour.npz'} ({args.steps} frames, scene {args.scene_seed} of the "
-          f"{split_of(args.scene_seed)!r} split) and {out / 'floorplan.png'}")
+    print(f"wrote {out / 'tour.npz'} ({args.steps} frames, scene {args.scene_seed}: "
+          f"{split_of(args.scene_seed) or 'no'} split) and {out / 'floorplan.png'}")
 
 
 def tour_scene(path: str) -> dict[str, object]:

@@ -7,8 +7,8 @@ scenes 0–3, which lie in ``train``.
 
 Examples:
     >>> from envs.splits import SPLITS, split_of, scenes
-    >>> split_of(3), split_of(1500), split_of(2001)
-    ('train', 'val', 'test')
+    >>> split_of(3), split_of(1500), split_of(2001), split_of(5000)
+    ('train', 'val', 'test', None)
     >>> scenes("test")
     (2000, 2001, 2002, 2003)
 """
@@ -30,13 +30,13 @@ SPLITS: Mapping[str, range] = MappingProxyType({
 N_SCENES = 4
 
 
-def split_of(scene_seed: int) -> str:
-    """The name of the split that holds ``scene_seed``; ``ValueError`` outside every split."""
+def split_of(scene_seed: int) -> str | None:
+    """The name of the split that holds ``scene_seed``, or ``None`` for a seed in none of them
+    (any seed may still be used, but its figures belong to no split)."""
     for name, seeds in SPLITS.items():
         if scene_seed in seeds:
             return name
-    raise ValueError(f"scene seed {scene_seed} is in no split "
-                     f"({', '.join(f'{n}: {r.start}-{r.stop - 1}' for n, r in SPLITS.items())})")
+    return None
 
 
 def scenes(split: str, n: int = N_SCENES) -> tuple[int, ...]:

@@ -16,5 +16,4 @@ def test_every_split_gives_its_first_scenes_and_refuses_others():
         check_split("test", [2000, 5])
     with pytest.raises(ValueError, match="unknown split 'dev'"):
         scenes("dev")
-    with pytest.raises(ValueError, match="in no split"):
-        split_of(10**6)
+    assert split_of(10**6) is None  # usable, but in no split
