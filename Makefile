@@ -30,12 +30,16 @@ PANORAMA_TOURS := --algos online --features sift --conditions day --scenes 0 1 2
 # PANORAMA with SIFT and ORB on 24 tours of a split's first 4 scenes: 4, 8, 12 rooms x 2 tour seeds
 SPLIT_TOURS := --preset panorama --algos online --features sift orb --conditions day \
 	--rooms 4 8 12 --tour-seeds 0 1 --steps-per-room 150 --latency-sizes
+# the offline baselines given as many places as rooms, or as the online recognizer opened
+MATCHED := --algos kmeans wpgma --conditions day --latency-sizes
 benchmarks: $(VENV)/.installed
 	$(VENV)/bin/placeclust demo --out runs/demo $(DOCS)
 	$(VENV)/bin/placeclust bench $(PANORAMA_TOURS) --param view=sides --param kernel_capacity=600 \
 		--param scene_change=0.25 --param scale=0.75 --out runs/panorama $(DOCS)
 	$(VENV)/bin/placeclust bench $(PANORAMA_TOURS) --out runs/defaults $(DOCS)
 	$(VENV)/bin/placeclust bench --quick $(DOCS)
+	$(VENV)/bin/placeclust bench --quick $(MATCHED) --param n_clusters=rooms --out runs/matched-rooms $(DOCS)
+	$(VENV)/bin/placeclust bench --quick $(MATCHED) --param n_clusters=online --out runs/matched-online $(DOCS)
 	$(VENV)/bin/placeclust bench $(SPLIT_TOURS) --split test --out runs/panorama-test $(DOCS)
 	$(VENV)/bin/placeclust bench $(SPLIT_TOURS) --split train --out runs/panorama-train $(DOCS)
 	$(PY) -m placeclust.benchmark latency $(DOCS)

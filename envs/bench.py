@@ -279,16 +279,38 @@ def _tour_rows(specs: tuple[RunSpec, ...]) -> Iterator[dict]:
     frames, room = _record(replace(first, condition=mapped))
     if cross:
         test_frames, test_room = _record(replace(first, condition=cross))
+    online_places: dict[str, int] = {}  # per feature type, for n_clusters="online"
     for spec in specs:
         if cross:
             pred, metrics = _cross_condition(spec, frames, room, test_frames, test_room)
             truth = test_room
         else:
-            result = run(spec.algo, frames, spec.features, **dict(spec.params))
+            params = _matched_k(dict(spec.params), spec.features, frames, room, online_places)
+            result = run(spec.algo, frames, spec.features, **params)
             pred, truth, metrics = result.assignments, room, evaluate(result, room)
         # params as JSON gives them back from the store, so every executor returns equal rows
         yield {"key": spec.key, "kind": "run", **asdict(spec), **metrics, **versions(),
                "params": [list(p) for p in spec.params], "assignments": pred, "truth": truth}
+
+
+def _matched_k(params: dict, features: str, frames: np.ndarray, room: np.ndarray,
+               online_places: dict[str, int]) -> dict:
+    """``params`` with ``n_clusters="rooms"`` or ``"online"`` made a number for this tour.
+
+    Purity rewards more clusters, so the offline methods are compared with the online one at
+    matched numbers of places: the rooms the tour visited, or the places the online
+    recognizer (with its defaults and the same features) opened on it.
+    """
+    from placeclust.runner import run
+
+    k = params.get("n_clusters")
+    if k == "rooms":
+        params["n_clusters"] = int(len(np.unique(room[room >= 0])))
+    elif k == "online":
+        if features not in online_places:
+            online_places[features] = run("online", frames, features).model.n_places
+        params["n_clusters"] = online_places[features]
+    return params
 
 
 def _record(spec: RunSpec) -> tuple[np.ndarray, np.ndarray]:

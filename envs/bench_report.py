@@ -90,9 +90,8 @@ def summary_table(rows: list[dict]) -> str:
 def worlds_line(rows: list[dict]) -> str:
     """Which scene seeds the runs come from, and their split (:mod:`envs.splits`)."""
     seeds = sorted({int(r["scene_seed"]) for r in rows})
-    splits = sorted({split_of(s) or "no" for s in seeds})
-    return (f"Scene seeds {', '.join(map(str, seeds))}: the {' and '.join(splits)} "
-            f"split{'s' if len(splits) > 1 else ''}.")
+    splits = sorted({split_of(s) or "none" for s in seeds})
+    return f"Scene seeds {', '.join(map(str, seeds))}; split: {', '.join(splits)}."
 
 
 def latency_table(latency: list[dict]) -> str:

@@ -185,3 +185,17 @@ def test_summary_reports_the_worst_run_and_the_share_meeting_the_bar() -> None:
     assert "| 0.963 (0.930) |" in line  # precision: mean (worst)
     assert "| 1.92 (2.25) |" in line  # places per room: mean (most)
     assert "| 1/3 |" in line  # only the first run meets all three bars
+
+
+@pytest.mark.parametrize("k", ["rooms", "online"])
+def test_offline_methods_can_be_given_the_rooms_or_the_online_place_count(tmp_path, k):
+    matrix = replace(TINY, algos=("kmeans",), conditions=("day",), latency_sizes=(),
+                     params=(("n_clusters", k),))
+    (row,) = run_bench(matrix, tmp_path, workers=1, progress=False)
+    if k == "rooms":
+        assert row["n_places"] == row["n_rooms"]
+    else:
+        (online,) = run_bench(replace(matrix, algos=("online",), params=()),
+                              tmp_path / "online", workers=1, progress=False)
+        assert row["n_places"] == online["n_places"]
+    assert f"n_clusters={k}" in (tmp_path / "results.md").read_text()
