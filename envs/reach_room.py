@@ -76,8 +76,9 @@ class ReachRoomEnv(PlaceNavEnv):
                                     shaping=shaping, **kwargs)
         self.fixed_goal = None if goal is None else self.plan.room_by_name(goal).id
         self.with_goal_panorama = goal_panorama
-        if goal_panorama and not self.with_panorama:
-            raise ValueError("goal_panorama=True needs panorama=True")
+        if goal_panorama and (not self.with_panorama or self.camera != "panorama"):
+            raise ValueError("goal_panorama=True needs the 360° panorama (panorama=True, "
+                             "camera='panorama')")
         self.success_reward = success_reward
         self.step_cost = step_cost
         self.shaping = shaping

@@ -70,3 +70,8 @@ def test_tour_records_the_forward_camera_and_cluster_refuses_side_views(tmp_path
               "--out", str(tmp_path / "p")])
     assert exc.value.code == 2 and "forward camera" in capsys.readouterr().err
     assert not (tmp_path / "p").exists()
+
+
+def test_the_goal_panorama_needs_the_panorama(make_task):
+    with pytest.raises(ValueError, match="needs the 360° panorama"):
+        make_task(panorama=True, camera="forward", goal_panorama=True)
