@@ -23,7 +23,7 @@ test: $(VENV)/.installed
 	$(PY) -m pytest -q
 
 # Regenerates every table of docs/benchmarks.md, one command after the other (never two timings
-# at once): about an hour on a 2-core machine.
+# at once): about 80 minutes on a 2-core machine.
 DOCS := --docs docs/benchmarks.md
 PANORAMA_TOURS := --algos online --features sift --conditions day --scenes 0 1 2 3 --rooms 4 8 \
 	--tour-seeds 0 1 --steps-per-room 150 --latency-sizes
