@@ -42,6 +42,9 @@ benchmarks: $(VENV)/.installed
 	$(VENV)/bin/placeclust bench --quick $(MATCHED) --param n_clusters=online --out runs/matched-online $(DOCS)
 	$(VENV)/bin/placeclust bench $(SPLIT_TOURS) --split test --out runs/panorama-test $(DOCS)
 	$(VENV)/bin/placeclust bench $(SPLIT_TOURS) --split train --out runs/panorama-train $(DOCS)
+	$(VENV)/bin/placeclust bench --preset panorama --algos online --features sift --conditions day \
+		--rooms 4 8 12 --tour-seeds 0 1 --steps-per-room 250 --latency-sizes --split test \
+		--out runs/panorama-test-250 $(DOCS)
 	$(PY) -m placeclust.benchmark latency $(DOCS)
 	$(PY) -m envs.benchmark $(DOCS)
 	$(PY) -m train.evaluate --agent all --episodes 50 --seed 1000 $(DOCS)
