@@ -40,7 +40,7 @@ import numpy as np
 from placeclust import __version__
 from placeclust.atomic import write_atomic
 from placeclust.features import FEATURES
-from placeclust.runner import ALGORITHMS, check_params, recognizer_class
+from placeclust.runner import ALGORITHMS, check_params
 
 CROSS_ALGOS = ("online",)  # recognizers with a fixed-map (localize-only) mode
 CONDITIONS = ("day", "cloudy", "night", "moved", "noisy")  # the names of envs.changes.CONDITIONS
@@ -95,9 +95,9 @@ class Matrix:
     params: tuple[tuple[str, object], ...] = ()
 
     def __post_init__(self) -> None:
-        for algo in self.algos:  # a name of ALGORITHMS or package.module:Class
-            recognizer_class(algo)
-        for algo in self.algos:  # every recognizer of the matrix must take every param
+        # each algo is a name of ALGORITHMS or package.module:Class (check_params loads it,
+        # naming one it cannot) whose recognizer takes every param of the matrix
+        for algo in self.algos:
             check_params(algo, (name for name, _ in self.params))
         _check_choices("features", self.features + self.latency_features, FEATURES)
         for condition in self.conditions:
