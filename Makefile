@@ -46,6 +46,8 @@ benchmarks: $(VENV)/.installed
 		--rooms 4 8 12 --tour-seeds 0 1 --steps-per-room 250 --latency-sizes --split test \
 		--out runs/panorama-test-250 $(DOCS)
 	$(PY) -m placeclust.benchmark latency $(DOCS)
+	$(PY) -m placeclust.benchmark latency --param consolidate=0.85 --section latency-consolidate \
+		$(DOCS)
 	$(PY) -m envs.benchmark $(DOCS)
 	$(PY) -m train.evaluate --agent all --episodes 50 --seed 1000 $(DOCS)
 	$(PY) -m train.evaluate --agent all --episodes 50 --seed 1000 $(DOCS) \

@@ -7,7 +7,6 @@ It sits above both the library (:mod:`placeclust`) and the simulator (this packa
 from __future__ import annotations
 
 import argparse
-import ast
 import json
 import shlex
 import sys
@@ -18,7 +17,7 @@ import numpy as np
 from placeclust import PRESETS
 from placeclust.docs_section import write_section
 from placeclust.features import FEATURES
-from placeclust.runner import ALGORITHMS, check_params, evaluate, run
+from placeclust.runner import ALGORITHMS, check_params, evaluate, literal_params, run
 
 from .bench_report import format_table
 from .splits import SPLITS, check_split, scenes, split_of
@@ -43,24 +42,6 @@ def load_tour(path: str) -> tuple[np.ndarray, np.ndarray]:
     if room.shape != (len(frames),):
         raise SystemExit(f"error: 'room' has shape {room.shape}, expected ({len(frames)},)")
     return frames, room
-
-
-def literal_params(items: list[str] | None) -> dict[str, object]:
-    """``NAME=VALUE`` strings as a dict of constructor arguments.
-
-    Values are Python literals (``0.9``, ``None``, ``True``) or else plain strings (``clahe``).
-    Raises ``ValueError`` naming a malformed item.
-    """
-    params: dict[str, object] = {}
-    for item in items or []:
-        name, sep, text = item.partition("=")
-        if not sep or not name:
-            raise ValueError(f"--param takes NAME=VALUE, got {item!r}")
-        try:
-            params[name] = ast.literal_eval(text)
-        except (ValueError, SyntaxError):
-            params[name] = text
-    return params
 
 
 def cmd_tour(args: argparse.Namespace) -> None:

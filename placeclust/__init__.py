@@ -12,4 +12,4 @@ keep_frame_buffers()
 from placeclust.online import PANORAMA, PRESETS, UNKNOWN, OnlinePlaceClustering  # noqa: E402
 
 __all__ = ["PANORAMA", "PRESETS", "UNKNOWN", "OnlinePlaceClustering"]
-__version__ = "0.10.0"
+__version__ = "0.11.0"

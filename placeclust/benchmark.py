@@ -20,6 +20,7 @@ import time
 import numpy as np
 
 from placeclust.online import OnlinePlaceClustering
+from placeclust.runner import check_params, literal_params
 from placeclust.synthetic import jitter, textured
 
 
@@ -60,8 +61,8 @@ def _median_ms(model: OnlinePlaceClustering, frames: list[np.ndarray], from_here
 TIMINGS = ("track_ms", "loop_ms", "features_ms", "track_own_ms", "loop_own_ms")
 
 
-def latency_vs_map_size(features: str, sizes: list[int], probes: int = 30, seed: int = 0
-                        ) -> list[dict[str, float]]:
+def latency_vs_map_size(features: str, sizes: list[int], probes: int = 30, seed: int = 0,
+                        params: dict[str, object] | None = None) -> list[dict[str, float]]:
     """Median ms per frame at each map size, for tracking and for loop closures.
 
     Each row holds :data:`TIMINGS`: ``track_ms`` and ``loop_ms`` are whole frames,
@@ -82,6 +83,9 @@ def latency_vs_map_size(features: str, sizes: list[int], probes: int = 30, seed:
         sizes: map sizes, in places, at which to time.
         probes: frames timed per size, for tracking and for loop closures each.
         seed: draws the probes' jitter and the revisited places.
+        params: other constructor arguments of the recognizer (default: the paper's). Each
+            synthetic place is one image, so with ``consolidate`` every tracked frame is on
+            probation and pays the consolidation's check: its worst case.
 
     Returns:
         One row per size: ``features``, ``places`` and :data:`TIMINGS`.
@@ -93,7 +97,7 @@ def latency_vs_map_size(features: str, sizes: list[int], probes: int = 30, seed:
         ([2, 3], True)
     """
     rng = np.random.default_rng(seed)
-    model = OnlinePlaceClustering(features)
+    model = OnlinePlaceClustering(features, **(params or {}))
     bases: list[np.ndarray] = []
     rows = []
     for size in sorted(sizes):
@@ -110,8 +114,8 @@ def latency_vs_map_size(features: str, sizes: list[int], probes: int = 30, seed:
     return rows
 
 
-def best_of_sweeps(features: str, sizes: list[int], repeats: int = 3
-                   ) -> list[dict[str, float]]:
+def best_of_sweeps(features: str, sizes: list[int], repeats: int = 3,
+                   params: dict[str, object] | None = None) -> list[dict[str, float]]:
     """:func:`latency_vs_map_size` run ``repeats`` times, each on a fresh map (the same frames).
 
     Returns one row per size: each of :data:`TIMINGS` is the lowest of the sweeps' medians, and
@@ -124,7 +128,7 @@ def best_of_sweeps(features: str, sizes: list[int], repeats: int = 3
     """
     if repeats < 1:
         raise ValueError(f"repeats must be at least 1, got {repeats}")
-    sweeps = [latency_vs_map_size(features, sizes) for _ in range(repeats)]
+    sweeps = [latency_vs_map_size(features, sizes, params=params) for _ in range(repeats)]
     rows = []
     for points in zip(*sweeps):
         row = dict(points[0])
@@ -160,27 +164,39 @@ def main(argv: list[str] | None = None) -> int:
     lat.add_argument("--sizes", nargs="+", type=int, default=[10, 50, 100, 250, 500])
     lat.add_argument("--repeats", type=int, default=3,
                      help="sweeps, each on a fresh map; the lowest median per size is reported")
+    lat.add_argument("--param", action="append", metavar="NAME=VALUE",
+                     help="a constructor argument of the recognizer (repeatable); the default "
+                     "is the paper's recognizer")
     lat.add_argument("--docs", metavar="FILE", help="also write the table into FILE's "
-                     "'latency' section (docs/benchmarks.md)")
+                     "'latency' section (docs/benchmarks.md), or --section's")
+    lat.add_argument("--section", default="latency", help="the section --docs writes")
     argv = sys.argv[1:] if argv is None else list(argv)
     args = p.parse_args(argv)
     if min(args.sizes) < 2:
         p.error("--sizes must be at least 2 places")
     if args.repeats < 1:
         p.error("--repeats must be at least 1")
+    try:
+        params = literal_params(args.param)
+        check_params("online", params)
+    except ValueError as e:
+        p.error(str(e))
     lines = [f"Median ms per frame over 30 frames, lowest (highest) of {args.repeats} sweeps; "
              "own: the recognizer's part of a frame, its detection taken out.", "",
              "| features | places | tracking ms | loop closure ms | detection ms | "
              "own ms: tracking / loop closure |", "|---|---|---|---|---|---|"]
+    if params:
+        lines.insert(1, "Recognizer: the paper's, with " + ", ".join(
+            f"`{k}={v!r}`" for k, v in params.items()) + ".")
     print("\n".join(lines), flush=True)
     for feat in args.features:
-        for line in _table(feat, best_of_sweeps(feat, args.sizes, args.repeats)):
+        for line in _table(feat, best_of_sweeps(feat, args.sizes, args.repeats, params)):
             lines.append(line)
             print(line, flush=True)
     if args.docs:
         from placeclust.docs_section import write_section
 
-        write_section(args.docs, "latency", "\n".join(lines),
+        write_section(args.docs, args.section, "\n".join(lines),
                       shlex.join(["python", "-m", "placeclust.benchmark", *argv]))
     return 0
 

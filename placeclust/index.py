@@ -95,6 +95,14 @@ class PlaceIndex:
         if len(self._tail) >= self.max_tail and len(self._places) >= self.exact_below:
             self.rebuild()
 
+    def merge(self, drop: int, keep: int) -> None:
+        """Two places became one: ``drop``'s indexed features vote for ``keep`` from now on,
+        and ``keep``'s merged sample joins the tail (see :mod:`placeclust.consolidation`)."""
+        self._places.discard(drop)
+        self._tail.pop(drop, None)
+        self._labels[self._labels == drop] = keep
+        self._tail[keep] = self._sample(keep)
+
     def rebuild(self) -> None:
         """Rebuild the tree from every place's current top features; empty the tail."""
         self._tail.clear()

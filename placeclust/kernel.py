@@ -108,6 +108,39 @@ class UnionKernel:
                 [self.last_seen, np.full(len(new), self.n_images, np.int64)])
         self._prune()
 
+    def merge(self, other: UnionKernel) -> None:
+        """Take in another place's kernel (two places found to be one, see
+        :mod:`placeclust.consolidation`), then prune to ``capacity``.
+
+        ``Union_Of_Cluster`` over kernels instead of images: each of ``other``'s features that
+        matches one of this kernel (Eq. 3) adds its weight to it, the others join with their
+        weights. ``other``'s images count as having come after this kernel's.
+
+        Args:
+            other: the kernel taken in; it is left as it was.
+
+        Examples:
+            >>> import numpy as np
+            >>> from placeclust.kernel import UnionKernel
+            >>> from placeclust.matching import normalize
+            >>> rng = np.random.default_rng(0)
+            >>> feats = normalize(rng.normal(size=(6, 16)).astype(np.float32), binary=False)
+            >>> a, b = UnionKernel(feats[:4], False), UnionKernel(feats[2:], False)
+            >>> a.merge(b)
+            >>> len(a), a.n_images, a.weights.tolist()
+            (6, 2, [1.0, 1.0, 2.0, 2.0, 1.0, 1.0])
+        """
+        img_idx, ker_idx = self.match(other.descriptors)
+        seen = other.last_seen + self.n_images
+        np.add.at(self.weights, ker_idx, other.weights[img_idx])
+        self.last_seen[ker_idx] = np.maximum(self.last_seen[ker_idx], seen[img_idx])
+        new = np.setdiff1d(np.arange(len(other)), img_idx)
+        self.descriptors = np.concatenate([self.descriptors, other.descriptors[new]])
+        self.weights = np.concatenate([self.weights, other.weights[new]])
+        self.last_seen = np.concatenate([self.last_seen, seen[new]])
+        self.n_images += other.n_images
+        self._prune()
+
     def top(self, n: int) -> np.ndarray:
         """The ``n`` heaviest features' descriptors (for the relocalization index)."""
         order = np.lexsort((self.last_seen, -self.weights))[:n]

@@ -24,22 +24,26 @@ Examples:
     ...     meta, arrays = read_meta(path)
     ...     loaded = load_map(path, world="demo")
     >>> meta["format"], meta["version"], meta["places"], meta["edges"]
-    ('placeclust-map', 5, [0, 1], [[0, 1]])
+    ('placeclust-map', 6, [0, 1], [[0, 1]])
     >>> loaded.n_places, loaded.current, loaded.features
     (2, 1, 'orb')
 """
 
 from __future__ import annotations
 
+import inspect
 import json
 import os
 import zipfile
 from pathlib import Path
 from typing import TYPE_CHECKING
 
+import networkx as nx
 import numpy as np
 
 from placeclust.atomic import write_atomic
+from placeclust.index import PlaceIndex
+from placeclust.kernel import UnionKernel
 
 if TYPE_CHECKING:
     from placeclust.online import OnlinePlaceClustering
@@ -51,7 +55,10 @@ FORMAT = "placeclust-map"
 #: 3: the parameters include ``scale``; older maps were made from full-size frames
 #: 4: the parameters include ``view``; older maps hold features of the whole frame
 #: 5: the parameters include ``scene_change``; older maps opened places without a gate
-VERSION = 5
+#: 6: ``merged`` lists the ids consolidation merged away; older maps merged none
+VERSION = 6
+
+_UNKNOWN = -1  # placeclust.online.UNKNOWN, which imports this module
 
 
 def save_map(model: OnlinePlaceClustering, path: str | os.PathLike, world: str = "") -> Path:
@@ -85,6 +92,7 @@ def save_map(model: OnlinePlaceClustering, path: str | os.PathLike, world: str =
         "kernel_images": {str(p): k.n_images for p, k in model.kernels.items()},
         "place_images": {str(p): int(d["n_images"]) for p, d in model.graph.nodes(data=True)},
         "edges": [[int(a), int(b)] for a, b in model.graph.edges()],
+        "merged": {str(d): int(k) for d, k in model.merged.items()},
     }
     arrays = {"meta": np.array(json.dumps(meta))}
     for p, k in model.kernels.items():
@@ -166,8 +174,94 @@ def load_map(path: str | os.PathLike, world: str | None = None) -> OnlinePlaceCl
             kernels={p: (arrays[f"k{p}_desc"], arrays[f"k{p}_w"], arrays[f"k{p}_seen"],
                          meta["kernel_images"][str(p)]) for p in meta["places"]},
             place_images={int(p): n for p, n in meta["place_images"].items()},
-            edges=meta["edges"], current=meta["current"], frame_shape=meta["frame_shape"])
+            edges=meta["edges"], current=meta["current"], frame_shape=meta["frame_shape"],
+            merged={int(d): k for d, k in meta.get("merged", {}).items()})
     except (KeyError, TypeError, ValueError) as e:
         raise ValueError(f"{path} is an inconsistent placeclust map: {type(e).__name__}: {e}"
                          ) from e
     return model
+
+
+class MapPersistence:
+    """Parameters, saving and loading of :class:`~placeclust.online.OnlinePlaceClustering`'s
+    map (a mixin: it reads the recognizer's ``kernels``, ``graph``, ``current``, ``merged`` and
+    ``frame_shape``)."""
+
+    def get_params(self) -> dict[str, object]:
+        """The constructor arguments (scikit-learn style), enough to rebuild an empty model.
+
+        Returns:
+            Parameter name -> value, for every argument of ``__init__``.
+        """
+        names = inspect.signature(type(self).__init__).parameters
+        return {n: getattr(self, n) for n in names if n != "self"}
+
+    def save(self, path: str | os.PathLike, world: str = "") -> None:
+        """Write the map atomically (see :func:`placeclust.mapfile.save_map`).
+
+        Args:
+            path: the map file; its folder must exist.
+            world: a fingerprint of the world the map was made in, checked by :meth:`load`.
+        """
+        save_map(self, path, world)
+
+    @classmethod
+    def load(cls, path: str | os.PathLike, world: str | None = None) -> OnlinePlaceClustering:
+        """A recognizer from a map file (see :func:`placeclust.mapfile.load_map`).
+
+        Args:
+            path: a map file written by :meth:`save`.
+            world: if given, the world the map must have been made in.
+
+        Returns:
+            A recognizer with the saved parameters, map and current place.
+
+        Raises:
+            FileNotFoundError: there is no file at ``path``.
+            ValueError: the file is not a readable, consistent map (of ``world``, if given).
+        """
+        return load_map(path, world)
+
+    def restore(self, kernels: dict[int, tuple], place_images: dict[int, int],
+                edges: list, current: int, frame_shape: list | None,
+                merged: dict[int, int] | None = None) -> None:
+        """Replace the map with saved state (used by :func:`placeclust.mapfile.load_map`).
+
+        Args:
+            kernels: place -> ``(descriptors, weights, last_seen, n_images)`` of its kernel.
+            place_images: place -> frames assigned to it.
+            edges: the topological graph's edges, pairs of places.
+            current: the robot's place, or ``UNKNOWN`` (-1).
+            frame_shape: ``(H, W)`` of the map's frames, or ``None``.
+            merged: ids merged away by consolidation -> the place holding them (:attr:`merged`).
+
+        Raises:
+            ValueError: the places and the merged ids together are not ``0..n-1``, a merged id
+                points to no place, or ``current`` or an edge names a place that is not in the
+                map.
+        """
+        places = sorted(int(p) for p in kernels)
+        merged = {int(d): int(k) for d, k in (merged or {}).items()}
+        if sorted([*places, *merged]) != list(range(len(places) + len(merged))):
+            raise ValueError(f"place ids and merged ids must be 0..n-1, got places "
+                             f"{places[:10]} and merged {sorted(merged)[:10]}")
+        if any(k not in kernels for k in merged.values()):
+            raise ValueError("a merged id points to a place that is not in the map")
+        if current != _UNKNOWN and current not in kernels:
+            raise ValueError(f"current place {current} is not in the map")
+        self.kernels = {p: UnionKernel.from_state(*kernels[p], binary=self._extractor.binary,
+                                                  capacity=self.kernel_capacity, ratio=self.ratio)
+                        for p in places}
+        self.graph = nx.Graph()
+        for p in places:
+            self.graph.add_node(p, n_images=int(place_images[p]))
+        for a, b in edges:
+            if a not in self.kernels or b not in self.kernels:
+                raise ValueError(f"edge ({a}, {b}) names a place that is not in the map")
+            self.graph.add_edge(int(a), int(b))
+        self.current = int(current)
+        self.merged = merged
+        self.frame_shape = tuple(frame_shape) if frame_shape else None
+        self._index = PlaceIndex(self._extractor.binary, self._index_sample)
+        for p in places:
+            self._index.add(p)

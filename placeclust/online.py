@@ -1,41 +1,24 @@
 """Online sequential place clustering: seed 000 (Tang, Hamami, Karasfi, Nakhaeinia), Sec. IV.
 
 :class:`OnlinePlaceClustering` turns a stream of frames into a topological map of places, one
-frame at a time; :data:`PANORAMA` holds its settings for 360° panoramas.
-
-Examples:
-    :data:`PANORAMA` is read-only, so that one caller's change cannot leak into another's
-    recognizer; derive a variant with ``dict``:
-
-    >>> from placeclust import PANORAMA, OnlinePlaceClustering
-    >>> model = OnlinePlaceClustering(**PANORAMA)
-    >>> model.view, model.kernel_capacity, model.scene_change, model.scale
-    ('sides', 600, 0.25, 0.75)
-    >>> OnlinePlaceClustering(**dict(PANORAMA, scale=1.0)).scale
-    1.0
-    >>> PANORAMA["scale"] = 1.0
-    Traceback (most recent call last):
-        ...
-    TypeError: 'mappingproxy' object does not support item assignment
+frame at a time; :data:`~placeclust.presets.PANORAMA` holds its settings for 360° panoramas.
 """
 
 from __future__ import annotations
 
-import inspect
-import os
-from collections.abc import Mapping
-from types import MappingProxyType
 from typing import NamedTuple
 
 import networkx as nx
 import numpy as np
 
+from placeclust.consolidation import Rehearsal
 from placeclust.features import FeatureExtractor
 from placeclust.frames import check_size, to_gray
 from placeclust.index import PlaceIndex
 from placeclust.kernel import UnionKernel
-from placeclust.mapfile import load_map, save_map
+from placeclust.mapfile import MapPersistence
 from placeclust.matching import dice_eq4, normalize
+from placeclust.presets import PANORAMA, PRESETS  # noqa: F401 (the package exports them)
 from placeclust.scene_change import SceneChangeGate
 
 UNKNOWN = -1
@@ -51,28 +34,7 @@ class _Compared(NamedTuple):
 
 _NONE = _Compared(UNKNOWN, np.inf, (np.zeros(0, np.int64), np.zeros(0, np.int64)))
 
-#: Settings for 360° panoramas with the heading at the centre column (``envs.panorama``): side
-#: views, kernels of half the size for half the features, the scene-change gate, and detection
-#: on a 0.75 copy of the frame. The thresholds stay the defaults.
-#: ``OnlinePlaceClustering(**PANORAMA)``; on the CLI, ``--param view=sides --param
-#: kernel_capacity=600 --param scene_change=0.25 --param scale=0.75``. Read-only, so that one
-#: caller's change cannot leak into another's recognizer.
-#:
-#: Why ``scale=0.75``: SIFT is most of a frame's time, and OpenCV's SIFT doubles its input for
-#: its first octave, so a 0.75 copy still yields nearly all the features, faster, with the same
-#: quality on the simulator's tours (``docs/benchmarks.md``). Its price is poorer reuse
-#: under another condition (light, furniture, noise), which the gate already makes poor;
-#: ``dict(PANORAMA, scale=1.0)`` gives the full-size detection back.
-PANORAMA: Mapping[str, object] = MappingProxyType(
-    {"view": "sides", "kernel_capacity": 600, "scene_change": 0.25, "scale": 0.75})
-
-#: Named configurations of :class:`OnlinePlaceClustering` (the CLI's ``--preset``): ``paper``
-#: is seed 000's recognizer with the library's defaults, ``panorama`` is :data:`PANORAMA`.
-PRESETS: Mapping[str, Mapping[str, object]] = MappingProxyType(
-    {"paper": MappingProxyType({}), "panorama": PANORAMA})
-
-
-class OnlinePlaceClustering:
+class OnlinePlaceClustering(MapPersistence):
     """Unsupervised, online place recognition with union-of-features kernels.
 
     Implements the online sequential place clustering of seed 000 (Sec. IV). Each frame's local
@@ -101,6 +63,10 @@ class OnlinePlaceClustering:
       1); any other frame beyond ``t_new_cluster`` is absorbed by the current place. Such
       maps localize worse under other conditions: leave the gate off for a map that must
       serve under them.
+    - **Consolidation** (``consolidate``, off by default). A young place whose frames keep
+      matching an older place is merged into it (:mod:`placeclust.consolidation`), which
+      repairs the places opened when a room is seen anew; :meth:`resolve` gives any id
+      returned before a merge the place that holds it now.
     - **Featureless frames**, with fewer than ``min_features`` features (a black image, a
       blank wall), are :data:`UNKNOWN` (-1) and change nothing.
 
@@ -141,6 +107,16 @@ class OnlinePlaceClustering:
         scene_lag: frames between the two frames the gate compares (10 frames are 40 cm of the
             simulator's scripted tours).
         scene_window: frames after a scene change during which a place may open.
+        consolidate: distance (``1 - Eq. 4``) within which a young place's frames match an
+            older place, or ``None`` for the paper's behaviour, no merging. See
+            :mod:`placeclust.consolidation`; :data:`~placeclust.presets.PANORAMA` uses 0.85
+            (``t_new_cluster``: the frames would have joined that place). The three settings
+            below were chosen with it on the ``val`` split (``docs/design.md``).
+        consolidate_probation: images a place's kernel takes in while it may still be merged.
+        consolidate_streak: frames in a row that must match the same older place to merge.
+        consolidate_ratio: a match counts only if its Eq. 4 similarity is at least this many
+            times the runner-up place's (Lowe's ratio test, for places), or ``None`` for no
+            test.
 
     Raises:
         ValueError: unless ``0 <= t_update_cluster < t_new_cluster < 1``, or if ``max_places``
@@ -195,6 +171,10 @@ class OnlinePlaceClustering:
         scene_change: float | None = None,
         scene_lag: int = 10,
         scene_window: int = 10,
+        consolidate: float | None = None,
+        consolidate_probation: int = 60,
+        consolidate_streak: int = 2,
+        consolidate_ratio: float | None = 1.5,
     ) -> None:
         if not 0.0 <= t_update_cluster < t_new_cluster < 1.0:
             raise ValueError(
@@ -220,6 +200,14 @@ class OnlinePlaceClustering:
         self.scene_change = scene_change
         self.scene_lag = scene_lag
         self.scene_window = scene_window
+        self.consolidate = consolidate
+        self.consolidate_probation = consolidate_probation
+        self.consolidate_streak = consolidate_streak
+        self.consolidate_ratio = consolidate_ratio
+        self._rehearsal = None if consolidate is None else Rehearsal(
+            consolidate, consolidate_probation, consolidate_streak)
+        #: ids merged away by consolidation -> the place that holds them now
+        self.merged: dict[int, int] = {}
         self._extractor = FeatureExtractor(features, max_features, normalize, scale, view)
         self._gate = None if scene_change is None else SceneChangeGate(
             scene_change, scene_lag, scene_window, self._extractor.binary, ratio)
@@ -283,14 +271,14 @@ class OnlinePlaceClustering:
             if self._gate is None or self._gate.is_open or here is None:
                 return self._new_place(desc)
             # no scene change: the robot is still in its place, which absorbs the frame (step 7)
-            return self._absorb(here.place, desc, here.matches)
+            return self._consolidated(desc, self._absorb(here.place, desc, here.matches))
         if best.place != self.current and self.current != UNKNOWN:
             # a loop closure when they were not adjacent
             self.graph.add_edge(self.current, best.place)
         if best.distance > self.t_update_cluster:
-            return self._absorb(best.place, desc, best.matches)
+            return self._consolidated(desc, self._absorb(best.place, desc, best.matches))
         self.current = best.place
-        return best.place
+        return self._consolidated(desc, best.place)
 
     def localize_one(self, frame: np.ndarray) -> int:
         """Track the robot on a fixed map: the place of ``frame``, or :data:`UNKNOWN`.
@@ -321,6 +309,24 @@ class OnlinePlaceClustering:
         self.current = UNKNOWN
         if self._gate is not None:
             self._gate.reset()
+        if self._rehearsal is not None:
+            self._rehearsal.reset()
+
+    def resolve(self, places: np.ndarray) -> np.ndarray:
+        """The place that holds each id now: ids that consolidation merged away become the
+        place they were merged into; other ids (and :data:`UNKNOWN`) stay as they are.
+
+        Args:
+            places: ids this recognizer returned, any shape.
+
+        Returns:
+            An int64 array of the same shape.
+        """
+        ids = np.asarray(places, np.int64)
+        out = ids.copy()
+        for drop, keep in self.merged.items():
+            out[ids == drop] = keep
+        return out
 
     @property
     def n_places(self) -> int:
@@ -331,79 +337,6 @@ class OnlinePlaceClustering:
     def map_full(self) -> bool:
         """Whether the map holds ``max_places`` places and opens no more."""
         return self.max_places is not None and len(self.kernels) >= self.max_places
-
-    # -- map persistence ---------------------------------------------------------------------
-
-    def get_params(self) -> dict[str, object]:
-        """The constructor arguments (scikit-learn style), enough to rebuild an empty model.
-
-        Returns:
-            Parameter name -> value, for every argument of ``__init__``.
-        """
-        names = inspect.signature(type(self).__init__).parameters
-        return {n: getattr(self, n) for n in names if n != "self"}
-
-    def save(self, path: str | os.PathLike, world: str = "") -> None:
-        """Write the map atomically (see :func:`placeclust.mapfile.save_map`).
-
-        Args:
-            path: the map file; its folder must exist.
-            world: a fingerprint of the world the map was made in, checked by :meth:`load`.
-        """
-        save_map(self, path, world)
-
-    @classmethod
-    def load(cls, path: str | os.PathLike, world: str | None = None) -> OnlinePlaceClustering:
-        """A recognizer from a map file (see :func:`placeclust.mapfile.load_map`).
-
-        Args:
-            path: a map file written by :meth:`save`.
-            world: if given, the world the map must have been made in.
-
-        Returns:
-            A recognizer with the saved parameters, map and current place.
-
-        Raises:
-            FileNotFoundError: there is no file at ``path``.
-            ValueError: the file is not a readable, consistent map (of ``world``, if given).
-        """
-        return load_map(path, world)
-
-    def restore(self, kernels: dict[int, tuple], place_images: dict[int, int],
-                edges: list, current: int, frame_shape: list | None) -> None:
-        """Replace the map with saved state (used by :func:`placeclust.mapfile.load_map`).
-
-        Args:
-            kernels: place -> ``(descriptors, weights, last_seen, n_images)`` of its kernel.
-            place_images: place -> frames assigned to it.
-            edges: the topological graph's edges, pairs of places.
-            current: the robot's place, or :data:`UNKNOWN`.
-            frame_shape: ``(H, W)`` of the map's frames, or ``None``.
-
-        Raises:
-            ValueError: place ids are not ``0..n-1``, or ``current`` or an edge names a place
-                that is not in the map.
-        """
-        places = sorted(int(p) for p in kernels)
-        if places != list(range(len(places))):
-            raise ValueError(f"place ids must be 0..n-1, got {places[:10]}")
-        if current != UNKNOWN and current not in kernels:
-            raise ValueError(f"current place {current} is not in the map")
-        self.kernels = {p: UnionKernel.from_state(*kernels[p], binary=self._extractor.binary,
-                                                  capacity=self.kernel_capacity, ratio=self.ratio)
-                        for p in places}
-        self.graph = nx.Graph()
-        for p in places:
-            self.graph.add_node(p, n_images=int(place_images[p]))
-        for a, b in edges:
-            if a not in self.kernels or b not in self.kernels:
-                raise ValueError(f"edge ({a}, {b}) names a place that is not in the map")
-            self.graph.add_edge(int(a), int(b))
-        self.current = int(current)
-        self.frame_shape = tuple(frame_shape) if frame_shape else None
-        self._index = PlaceIndex(self._extractor.binary, self._index_sample)
-        for p in places:
-            self._index.add(p)
 
     # -- internals ------------------------------------------------------------------------------
 
@@ -469,8 +402,42 @@ class OnlinePlaceClustering:
         self.current = place
         return place
 
+    def _consolidated(self, desc: np.ndarray, place: int) -> int:
+        """``place``, or the older place it was just merged into (see
+        :mod:`placeclust.consolidation`): on probation, the frame is also compared with the
+        older place the index votes for most (and the runner-up, for ``consolidate_ratio``)."""
+        if self._rehearsal is None or not self._rehearsal.on_probation(
+                self.graph.nodes[place]["n_images"]):
+            return place
+        ratio = self.consolidate_ratio
+        # only into an older place: a settled place is never merged into a young one
+        others = [p for p in self._index.ranked(desc) if p < place][: 1 if ratio is None else 2]
+        if not others:
+            return place
+        best, *runner_up = sorted((self._compare(p, desc) for p in others),
+                                  key=lambda c: c.distance)
+        distance = best.distance
+        if runner_up and 1.0 - distance < ratio * (1.0 - runner_up[0].distance):
+            distance = np.inf  # not distinctly the best: a doorway or a look-alike room
+        if not self._rehearsal.observe(place, best.place, distance):
+            return place
+        self._merge(best.place, place)
+        return best.place
+
+    def _merge(self, keep: int, drop: int) -> None:
+        """Make ``drop`` part of ``keep``: kernel, frames, edges, index votes and id."""
+        self.kernels[keep].merge(self.kernels.pop(drop))
+        self.graph.nodes[keep]["n_images"] += self.graph.nodes[drop]["n_images"]
+        self.graph.add_edges_from((keep, p) for p in self.graph.neighbors(drop) if p != keep)
+        self.graph.remove_node(drop)
+        self._index.merge(drop, keep)
+        self.merged = {d: keep if k == drop else k for d, k in self.merged.items()}
+        self.merged[drop] = keep
+        if self.current == drop:
+            self.current = keep
+
     def _new_place(self, desc: np.ndarray) -> int:
-        place = len(self.kernels)
+        place = len(self.kernels) + len(self.merged)  # merged ids are never reused
         self.kernels[place] = UnionKernel(desc, self._extractor.binary, self.kernel_capacity,
                                           self.ratio)
         self.graph.add_node(place, n_images=1)

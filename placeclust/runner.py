@@ -6,6 +6,7 @@ ones (:data:`OFFLINE`) see the whole sequence, and their total time is spread ov
 
 from __future__ import annotations
 
+import ast
 import inspect
 import time
 from collections.abc import Iterable
@@ -30,7 +31,8 @@ class Result:
     """The outcome of :func:`run` or :func:`localize`.
 
     Attributes:
-        assignments: place per frame, (T,) int64, -1 for unknown.
+        assignments: place per frame, (T,) int64, -1 for unknown. A recognizer that merges
+            places (``resolve``) has its ids given as its final map holds them.
         latencies: seconds per frame, (T,).
         model: the recognizer, with its map.
         localized: (T,) bool, the frames the method localized itself (the nested mapper's key
@@ -48,8 +50,10 @@ def recognizer_class(algo: str) -> type:
 
     A ``package.module:Class`` path loads a recognizer of your own: an online one with
     ``learn_predict_one``, ``predict_one``, ``n_places`` and ``graph``, or an offline one with
-    ``fit_predict`` (:mod:`placeclust.checks` checks the rest). Like ``uvicorn``, the loader
-    looks in the working folder too.
+    ``fit_predict`` (:mod:`placeclust.checks` checks the rest). An online recognizer that merges
+    places may also have ``resolve(ids)``, the place each id it returned belongs to now;
+    :func:`run` scores its final map through it. Like ``uvicorn``, the loader looks in the
+    working folder too.
 
     Raises:
         ValueError: an unknown name, a path that cannot be imported, or a class that follows
@@ -118,6 +122,24 @@ def check_params(algo: str, names: Iterable[str]) -> None:
     for name in names:
         if name not in known:
             raise ValueError(f"{algo} has no parameter {name!r}; it takes {known}")
+
+
+def literal_params(items: list[str] | None) -> dict[str, object]:
+    """``NAME=VALUE`` strings as a dict of constructor arguments.
+
+    Values are Python literals (``0.9``, ``None``, ``True``) or else plain strings (``clahe``).
+    Raises ``ValueError`` naming a malformed item.
+    """
+    params: dict[str, object] = {}
+    for item in items or []:
+        name, sep, text = item.partition("=")
+        if not sep or not name:
+            raise ValueError(f"--param takes NAME=VALUE, got {item!r}")
+        try:
+            params[name] = ast.literal_eval(text)
+        except (ValueError, SyntaxError):
+            params[name] = text
+    return params
 
 
 def make(algo: str, features: str = "sift", **params: object) -> object:
@@ -198,6 +220,8 @@ def _one_at_a_time(model: object, step, frames: np.ndarray, progress: bool, desc
         labels[t] = step(frame)
         lat[t] = time.perf_counter() - start
         localized[t] = getattr(model, "last_was_keyframe", True)
+    if hasattr(model, "resolve"):  # ids of places merged since, as the final map holds them
+        labels = model.resolve(labels)
     return Result(labels, lat, model, localized)
 
 

@@ -1,3 +1,5 @@
+import functools
+
 import numpy as np
 import pytest
 
@@ -37,3 +39,21 @@ def test_the_command_prints_a_table_with_the_growth_ratio(capsys):
     assert "| orb | 4 |" in out and "| orb | 4 / 2 |" in out
     with pytest.raises(SystemExit):
         main(["latency", "--sizes", "1"])
+
+
+def test_the_command_times_the_recognizer_with_the_given_parameters(capsys, monkeypatch):
+    seen = []
+    original = OnlinePlaceClustering.__init__
+
+    @functools.wraps(original)  # check_params reads the constructor's signature
+    def spy(self, *args, **kwargs):
+        seen.append(kwargs)
+        original(self, *args, **kwargs)
+
+    monkeypatch.setattr(OnlinePlaceClustering, "__init__", spy)
+    assert main(["latency", "--features", "orb", "--sizes", "2", "3", "--repeats", "1",
+                 "--param", "consolidate=0.85"]) == 0
+    assert seen and all(kw == {"consolidate": 0.85} for kw in seen)
+    assert "`consolidate=0.85`" in capsys.readouterr().out
+    with pytest.raises(SystemExit):
+        main(["latency", "--param", "no_such_argument=1"])
