@@ -107,9 +107,11 @@ def test_presets_name_configurations_and_params_override_them(tmp_path, two_plac
 
     preset = cluster("a", "--preset", "panorama")
     spelled = cluster("b", "--param", "view=sides", "--param", "kernel_capacity=600",
-                      "--param", "scene_change=0.25", "--param", "scale=0.75")
+                      "--param", "scene_change=0.25", "--param", "scale=0.75",
+                      "--param", "consolidate=0.85")
     assert preset["params"] == spelled["params"] == {
-        "view": "sides", "kernel_capacity": 600, "scene_change": 0.25, "scale": 0.75}
+        "view": "sides", "kernel_capacity": 600, "scene_change": 0.25, "scale": 0.75,
+        "consolidate": 0.85}
     np.testing.assert_array_equal(np.load(tmp_path / "a" / "assignments.npy"),
                                   np.load(tmp_path / "b" / "assignments.npy"))
     assert preset["scene_seed"] == 2001 and preset["split"] == "test"
