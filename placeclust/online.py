@@ -83,7 +83,8 @@ class OnlinePlaceClustering(MapPersistence):
             growing: a frame that would open a place is localized instead, as by
             :meth:`localize_one`. With capped kernels this bounds memory and latency for any
             run (ORB keeps opening places on new paths through known rooms, see
-            ``envs.longrun``).
+            ``envs.longrun``). Consolidation never reuses a merged id, so with it ids can
+            reach beyond ``max_places - 1``.
         ratio: Lowe's ratio for correspondences (Eq. 3).
         relocalize: search the whole map when no neighbour matches (see above).
         shortlist: places checked exactly after an index query.
@@ -120,7 +121,8 @@ class OnlinePlaceClustering(MapPersistence):
 
     Raises:
         ValueError: unless ``0 <= t_update_cluster < t_new_cluster < 1``, or if ``max_places``
-            is below 1.
+            is below 1, ``consolidate_ratio`` below 1, or a ``consolidate`` setting is out of
+            range (:class:`~placeclust.consolidation.Rehearsal`).
 
     Examples:
         Three jittered views of one synthetic place, then three of another:
@@ -182,6 +184,9 @@ class OnlinePlaceClustering(MapPersistence):
                 f"t_update_cluster={t_update_cluster}, t_new_cluster={t_new_cluster}")
         if max_places is not None and max_places < 1:
             raise ValueError(f"max_places must be at least 1 or None, got {max_places}")
+        if consolidate_ratio is not None and not consolidate_ratio >= 1.0:
+            raise ValueError("consolidate_ratio must be at least 1 (the best place against the "
+                             f"runner-up) or None, got {consolidate_ratio}")
         self.features = features
         self.max_features = max_features
         self.t_new_cluster = t_new_cluster

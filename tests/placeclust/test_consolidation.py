@@ -130,3 +130,12 @@ def test_the_ratio_test_keeps_a_place_that_matches_two_places_alike():
             model.learn_one(f)
         merged[ratio] = model.merged
     assert merged[None] in ({2: 0}, {2: 1}) and merged[1.5] == {}
+
+
+@pytest.mark.parametrize("kwargs, match", [
+    ({"consolidate": 0.85, "consolidate_ratio": 0.5}, "consolidate_ratio"),
+    ({"consolidate": 1.2}, r"\[0, 1\)"),
+    ({"consolidate": 0.85, "consolidate_streak": 0}, "streak")])
+def test_bad_consolidation_arguments_name_the_problem(kwargs, match):
+    with pytest.raises(ValueError, match=match):
+        OnlinePlaceClustering(**kwargs)
