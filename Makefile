@@ -6,7 +6,8 @@ PY := $(VENV)/bin/python
 PIP := $(PY) -m pip
 export MUJOCO_GL ?= egl
 
-.PHONY: demo test benchmarks bench bench-quick bench-long bench-env bench-latency train eval clean
+.PHONY: demo test benchmarks bench bench-quick bench-long bench-env bench-latency train eval \
+	leaderboard train-errands clean
 
 $(VENV)/.installed: pyproject.toml
 	$(PYTHON) -m venv $(VENV)
@@ -54,6 +55,10 @@ benchmarks: $(VENV)/.installed
 		--config train/hyperparams/ppo_proximity.yml --policies assets/policies/proximity
 	$(PY) -m train.evaluate --agent all --episodes 50 --seed 1000 $(DOCS) \
 		--config train/hyperparams/ppo_corridor.yml --policies assets/policies/corridor
+	$(PY) -m train.leaderboard --split test --rooms 6 --goals-per-scene 5 --seed 0 \
+		--out runs/leaderboard $(DOCS)
+	$(PY) -m train.leaderboard --split test --rooms 6 --goals-per-scene 5 --seed 0 \
+		--recognizers oracle online online-orb --agent ppo --out runs/leaderboard-ppo $(DOCS)
 
 # the benchmark matrix (envs/bench.py): results.csv, results.md, precision.png, latency.png
 bench-quick: $(VENV)/.installed
@@ -78,6 +83,16 @@ train: $(VENV)/.installed
 
 eval: $(VENV)/.installed
 	$(PY) -m train.evaluate --agent all --episodes 50 --seed 1000
+
+# recognizers ranked by errand success after a guided tour of 8 test buildings (~20 minutes)
+leaderboard: $(VENV)/.installed
+	$(PY) -m train.leaderboard --split test --rooms 6 --goals-per-scene 5 --seed 0 \
+		--out runs/leaderboard
+
+# reproduces assets/policies/errands/ppo_errands.zip, the learned errand agent
+train-errands: $(VENV)/.installed
+	$(PY) -m train.train --agent errands --config train/hyperparams/ppo_errands.yml \
+		--out runs/train/errands_s0
 
 clean:
 	rm -rf $(VENV) runs .pytest_cache .ruff_cache

@@ -32,6 +32,22 @@ def door_distances(plan: FloorPlan, goal: int) -> dict[int, float]:
     return nx.multi_source_dijkstra_path_length(g, sources) if sources else {}
 
 
+def walking_distance(plan: FloorPlan, to_goal: dict[int, float], goal: int, x: float,
+                     y: float, room: int | None = None) -> float:
+    """Walking distance (m) from (x, y) to room ``goal`` through doors, 0 inside it.
+
+    ``to_goal`` is :func:`door_distances` of ``goal``; ``room`` is the room (x, y) is taken to
+    be in (default: the one it lies in). A point outside every room, or in a room with no path
+    to the goal, is ``inf``.
+    """
+    room = plan.room_at(x, y) if room is None else room
+    if room == goal:
+        return 0.0
+    return min((math.dist((x, y), (d.x, d.y)) + to_goal[i]
+                for i, d in enumerate(plan.doors) if room in d.rooms and i in to_goal),
+               default=math.inf)
+
+
 class ReachRoomEnv(PlaceNavEnv):
     """Reach a named room of the building: :class:`~envs.place_nav.PlaceNavEnv` with a goal.
 
@@ -98,13 +114,7 @@ class ReachRoomEnv(PlaceNavEnv):
 
     def goal_distance(self, x: float, y: float) -> float:
         """Ground-truth walking distance (m) from (x, y) to the goal room, 0 inside it."""
-        room = self.plan.room_at(x, y)
-        if room == self.goal:
-            return 0.0
-        to_goal = self._to_goal[self.goal]
-        return min((math.dist((x, y), (d.x, d.y)) + to_goal[i]
-                    for i, d in enumerate(self.plan.doors) if room in d.rooms and i in to_goal),
-                   default=math.inf)
+        return walking_distance(self.plan, self._to_goal[self.goal], self.goal, x, y)
 
     def reset(self, *, seed: int | None = None, options: dict[str, Any] | None = None
               ) -> tuple[dict[str, np.ndarray], dict[str, Any]]:

@@ -3,6 +3,9 @@
     python -m train.evaluate --agent {ppo,random,noplace,oracle,planner,all} [--policy PATH]
         --episodes N --seed S [--json FILE] [--config YML --policies DIR]
 
+``--task unseen`` scores a recognizer in buildings never seen instead (:mod:`train.unseen`):
+a guided tour builds its map, then errands to the rooms the guide named.
+
 ``--agent all`` scores every agent with its shipped policy and prints a markdown table.
 ``--config`` names the hyperparameter file the agents were trained with (its ``env`` sections
 give the world and the sensors) and ``--policies`` the folder of their ``ppo_<agent>.zip``; the
@@ -139,8 +142,19 @@ def evaluate(agent: str, episodes: int, seed: int, policy: Path | None = None,
 
 
 def main(argv: list[str] | None = None) -> int:
+    argv = sys.argv[1:] if argv is None else list(argv)
+    pre = argparse.ArgumentParser(add_help=False)
+    pre.add_argument("--task", choices=("reach", "unseen"), default="reach")
+    if pre.parse_known_args(argv)[0].task == "unseen":
+        from train.unseen import main as unseen
+
+        return unseen(argv)
     p = argparse.ArgumentParser(prog="python -m train.evaluate", description=__doc__,
                                 formatter_class=argparse.RawDescriptionHelpFormatter)
+    p.add_argument("--task", choices=("reach", "unseen"), default="reach",
+                   help="reach: PlaceNav-ReachRoom-v0 on the training building (this page); "
+                   "unseen: a guided tour, then errands, in buildings never seen (see "
+                   "--task unseen --help)")
     p.add_argument("--agent", required=True, choices=[*sorted(OBSERVES), "all"])
     p.add_argument("--policy", type=Path, help="policy zip (default: the shipped one)")
     p.add_argument("--map", type=Path, help="folder with map.npz (default: the --policies "
@@ -156,7 +170,6 @@ def main(argv: list[str] | None = None) -> int:
                    help="PPO agents sample actions instead of taking the mean")
     p.add_argument("--docs", metavar="FILE", help="with --agent all, also write the table "
                    "into FILE's section agents-<config> (docs/benchmarks.md)")
-    argv = sys.argv[1:] if argv is None else list(argv)
     args = p.parse_args(argv)
     if args.docs and args.agent != "all":
         p.error("--docs writes the table of --agent all")

@@ -6,6 +6,9 @@
 | ``noplace`` | nothing: it must find its way from the rangefinders and compass alone |
 | ``oracle`` | ``place_id`` = the ground-truth room: the upper bound |
 | ``planner`` | all of ``PlaceNav``'s keys, ``goal_panorama`` and ``place_id`` (no learning) |
+| ``errands`` | guided tours of many buildings, through the tour planner's hints |
+
+``errands`` is another task (``PlaceNav-GuidedTour-v0``, :mod:`train.errand_agent`).
 
 No agent sees the panorama itself: learning from pixels is not what this benchmark is about,
 and it would not train on a CPU in an hour.
@@ -33,7 +36,7 @@ from envs.place_id import PlaceIdWrapper, TrueRoomWrapper
 from envs.robot import MAX_RANGE
 from placeclust import OnlinePlaceClustering
 
-AGENTS = ("place", "noplace", "oracle", "planner")
+AGENTS = ("place", "noplace", "oracle", "planner", "errands")
 SENSORS = ("goal", "heading", "ranges", "odometry")
 #: what the planner's controller steers with (:func:`train.planner.steer`)
 PLANNER_SENSORS = frozenset({"heading", "ranges"})
@@ -58,6 +61,10 @@ def make_env(agent: str, scene_seed: int = 0, n_rooms: int = 4, map_path: str | 
     """
     if agent not in AGENTS:
         raise ValueError(f"unknown agent {agent!r}; choose one of {AGENTS}")
+    if agent == "errands":  # guided tours of many buildings (train.errand_agent)
+        from train.errand_agent import TrainBuildings
+
+        return TrainBuildings(n_rooms=n_rooms, **task)
     sensors = _check_sensors(sensors)
     if agent == "planner" and not PLANNER_SENSORS <= set(sensors):
         raise ValueError("the planner steers by compass around what its rangefinders see; "

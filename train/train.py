@@ -69,7 +69,7 @@ def train(agent: str, seed: int = 0, out: Path | None = None, timesteps: int | N
     cfg = load_config(agent, config_path)
     env_cfg = dict(cfg.pop("env", {}))
     # agents train on train-split buildings only: val chooses, test reports (envs.splits)
-    check_split("train", [env_cfg.get("scene_seed", 0)])
+    check_split("train", env_cfg.get("scene_seeds", [env_cfg.get("scene_seed", 0)]))
     map_cfg = dict(cfg.pop("map", {}))
     # the command line overrides the file; the rest of cfg goes to PPO
     file_n_envs, file_timesteps = cfg.pop("n_envs", 1), cfg.pop("n_timesteps", None)

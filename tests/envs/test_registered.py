@@ -16,24 +16,31 @@ from envs import PlaceIdWrapper
 
 # small panoramas keep the battery fast; the code paths are those of the default size
 SMALL = {"panorama_width": 64, "panorama_height": 16}
+# and a short guided tour, with the cheaper of the recognizers that look at the panorama
+TOUR = {"n_rooms": 3, "tour_steps_per_room": 40, "n_errands": 2, "recognizer": "online-orb"}
+
+
+def small(env_id: str, **kwargs) -> dict:
+    """The battery's arguments for ``env_id``."""
+    return {**SMALL, **(TOUR if "GuidedTour" in env_id else {}), **kwargs}
 IDS = sorted(spec.id for spec in gym.registry.values()
              if str(spec.entry_point).startswith(f"{envs.__name__}."))
 
 
 def test_the_package_registers_its_envs():
-    assert IDS == ["PlaceNav-ReachRoom-v0", "PlaceNav-v0"]
+    assert IDS == ["PlaceNav-GuidedTour-v0", "PlaceNav-ReachRoom-v0", "PlaceNav-v0"]
 
 
 @pytest.mark.parametrize("env_id", IDS)
 def test_check_env(env_id):
-    env = gym.make(env_id, **SMALL, render_mode="rgb_array")
+    env = gym.make(env_id, **small(env_id, render_mode="rgb_array"))
     check_env(env.unwrapped)
     env.close()
 
 
 @pytest.mark.parametrize("env_id", IDS)
 def test_identically_seeded_envs_match(env_id):
-    a, b = gym.make(env_id, **SMALL), gym.make(env_id, **SMALL)
+    a, b = gym.make(env_id, **small(env_id)), gym.make(env_id, **small(env_id))
     check_environments_match(a, b, num_steps=20, seed=3, info_comparison="equivalence")
     a.close()
     b.close()
@@ -43,7 +50,7 @@ def test_identically_seeded_envs_match(env_id):
 @pytest.mark.parametrize("clone", [lambda e: pickle.loads(pickle.dumps(e)), copy.deepcopy],
                          ids=["pickle", "deepcopy"])
 def test_copies_rebuild_the_same_env(env_id, clone):
-    env = gym.make(env_id, **SMALL, scene_seed=2, n_rooms=3, lighting="night")
+    env = gym.make(env_id, **small(env_id, scene_seed=2, n_rooms=3, lighting="night"))
     env.reset(seed=1)
     twin = clone(env)
     assert twin.unwrapped is not env.unwrapped

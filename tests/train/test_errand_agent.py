@@ -1,0 +1,39 @@
+import gymnasium as gym
+import numpy as np
+import pytest
+
+import envs  # noqa: F401
+from train.errand_agent import N_FEATURES, PlannerHints, TrainBuildings, residual
+from train.make import make_env
+
+TASK = {"recognizer": "oracle", "n_rooms": 3, "n_errands": 1, "tour_steps_per_room": 40,
+        "errand_steps": 80}
+
+
+def test_a_zero_correction_is_the_planner():
+    env = PlannerHints(gym.make("PlaceNav-GuidedTour-v0", scene_seed=0, **TASK))
+    try:
+        obs, _ = env.reset(seed=0)
+        assert obs.shape == (N_FEATURES,) and obs in env.observation_space
+        assert residual(obs, np.zeros(2)) == pytest.approx(obs[:2])
+        done = False
+        while not done:  # zero corrections drive the planner's errand to its end
+            obs, _, done, _, info = env.step(np.zeros(2, np.float32))
+        assert info["errands"][0]["success"]
+    finally:
+        env.close()
+    assert residual(np.array([0.9, -0.9]), np.array([0.5, -0.5])) == pytest.approx([1.0, -1.0])
+
+
+def test_training_buildings_come_from_the_train_split_and_change():
+    with pytest.raises(ValueError, match="not in the 'train' split"):
+        TrainBuildings([0, 2000], **TASK)
+    env = make_env("errands", scene_seeds=[0, 1, 2], episodes_per_building=1, **TASK)
+    try:
+        seen = set()
+        for seed in range(6):
+            env.reset(seed=seed)
+            seen.add(env.scene_seed)
+        assert len(seen) > 1 and seen <= {0, 1, 2}  # not one building over and over
+    finally:
+        env.close()

@@ -1,0 +1,214 @@
+"""The closed-loop leaderboard: recognizers ranked by errand success in buildings never seen.
+
+    python -m train.leaderboard --split test --rooms 6 --goals-per-scene 5 --seed 0 \\
+        --out runs/leaderboard [--recognizers oracle online ...] [--agent planner] \\
+        [--workers N] [--executor process|ray] [--docs docs/benchmarks.md]
+
+Every recognizer maps every building of the split from a guided tour, and the same agent
+(:mod:`train.tour_planner` by default) runs the same errands on each map
+(:func:`train.unseen.run_scene`). The table puts task success beside the same maps' open-loop
+precision, NMI and places per room, and ``success_vs_nmi.png`` plots one against the other.
+Each (recognizer, building) is one job on a ``spawn`` process pool or Ray; its result is kept in
+``OUT/runs/``, so an interrupted run resumes where it stopped.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import shlex
+import sys
+from collections.abc import Iterator
+from pathlib import Path
+from typing import Any
+
+from envs.guided_tour import RECOGNIZERS
+from envs.splits import SPLITS, check_split, scenes
+from placeclust import __version__
+from placeclust.atomic import write_atomic
+from placeclust.docs_section import write_section
+from placeclust.progress import progress as progress_bar
+from train.unseen import AGENTS, run_scene, summarize
+
+#: the slow recognizers first, so the last job to finish is a short one
+COST = {"online": 0, "nested": 1, "online-orb": 2, "random": 3, "none": 4, "oracle": 5}
+
+
+def job_key(job: dict[str, Any]) -> str:
+    """The file name of a job's result: everything that changes it."""
+    policy = f"-{Path(job['policy']).stem}" if job.get("policy") else ""
+    return (f"{job['recognizer']}-{job['agent']}{policy}-scene{job['scene_seed']}"
+            f"-rooms{job['n_rooms']}-goals{job['goals']}-seed{job['seed']}")
+
+
+def run_jobs(jobs: list[dict[str, Any]], out: Path | None = None, workers: int = 1,
+             executor: str = "process", progress: bool = True) -> list[dict[str, Any]]:
+    """Run :func:`~train.unseen.run_scene` for each job (its keyword arguments); the rows.
+
+    With ``out``, each row is kept in ``out/runs/<key>.json`` and a row already there from
+    this version of placeclust is not run again.
+    """
+    if executor not in ("process", "ray"):
+        raise ValueError(f"unknown executor {executor!r}; choose 'process' or 'ray'")
+    store = None if out is None else Path(out) / "runs"
+    done = {}
+    if store is not None:
+        store.mkdir(parents=True, exist_ok=True)
+        for job in jobs:
+            path = store / f"{job_key(job)}.json"
+            if path.is_file():
+                row = json.loads(path.read_text())
+                if row.get("version") == __version__:
+                    done[job_key(job)] = row
+    todo = sorted((j for j in jobs if job_key(j) not in done),
+                  key=lambda j: COST.get(j["recognizer"], 0))
+    bar = progress_bar(total=len(todo), enabled=progress, desc="errands", unit="building")
+    run = _run_ray if executor == "ray" else _run_local
+    for job, row in run(todo, workers):
+        row["version"] = __version__
+        done[job_key(job)] = row
+        if store is not None:
+            write_atomic(store / f"{job_key(job)}.json",
+                         lambda f, row=row: f.write(json.dumps(row, indent=1).encode()))
+        bar.update()
+    bar.close()
+    return [done[job_key(j)] for j in jobs]
+
+
+def _run_job(job: dict[str, Any]) -> dict[str, Any]:
+    return run_scene(**job)
+
+
+def _run_local(jobs: list[dict], workers: int) -> Iterator[tuple[dict, dict]]:
+    if workers <= 1:
+        for job in jobs:
+            yield job, run_scene(**job)
+        return
+    import multiprocessing as mp
+    from concurrent.futures import ProcessPoolExecutor, as_completed
+
+    # spawn, never fork: a forked child of a process that has rendered deadlocks in Mesa's EGL
+    with ProcessPoolExecutor(workers, mp_context=mp.get_context("spawn")) as pool:
+        futures = {pool.submit(run_scene, **job): job for job in jobs}
+        try:
+            for fut in as_completed(futures):
+                yield futures[fut], fut.result()
+        except BaseException:
+            pool.shutdown(cancel_futures=True)
+            raise
+
+
+def _run_ray(jobs: list[dict], workers: int) -> Iterator[tuple[dict, dict]]:
+    try:
+        import ray
+    except ImportError as exc:
+        raise ValueError("executor 'ray' needs Ray: pip install 'placeclust[ray]'") from exc
+    if not ray.is_initialized():
+        ray.init(include_dashboard=False, log_to_driver=False, num_cpus=max(workers, 1))
+    task = ray.remote(num_cpus=1)(_run_job)
+    pending = {task.remote(job): job for job in jobs}
+    while pending:
+        ready, _ = ray.wait(list(pending), num_returns=1)
+        yield pending.pop(ready[0]), ray.get(ready[0])
+
+
+def leaderboard(summaries: list[dict[str, Any]]) -> str:
+    """The summaries (:func:`~train.unseen.summarize`) as a markdown table, best first."""
+    lines = ["| recognizer | success | worst building | SPL | steps per errand | precision | "
+             "NMI | places per room |", "|---|---|---|---|---|---|---|---|"]
+    for s in sorted(summaries, key=lambda s: -s["success_rate"]):
+        lines.append(f"| {s['recognizer']} | {s['success_rate']:.2f} | "
+                     f"{s['worst_scene_success']:.2f} | {s['spl']:.2f} | "
+                     f"{s['mean_length']:.0f} | {s['precision']:.3f} | {s['nmi']:.3f} | "
+                     f"{s['places_per_room']:.2f} |")
+    return "\n".join(lines)
+
+
+def rank_agreement(summaries: list[dict[str, Any]]) -> float:
+    """Spearman's rank correlation between the recognizers' success and their NMI."""
+    from scipy.stats import spearmanr
+
+    rho = spearmanr([s["success_rate"] for s in summaries], [s["nmi"] for s in summaries])
+    return float(rho.statistic)
+
+
+def plot(summaries: list[dict[str, Any]], path: Path) -> None:
+    """Task success against open-loop NMI, one labelled point per recognizer."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    fig, ax = plt.subplots(figsize=(5, 4))
+    for i, s in enumerate(summaries):
+        ax.scatter(s["nmi"], s["success_rate"])
+        # recognizers with no information share a point: their labels go one under the other
+        below = sum(abs(t["nmi"] - s["nmi"]) < 0.05 and abs(t["success_rate"]
+                                                             - s["success_rate"]) < 0.05
+                    for t in summaries[:i])
+        ax.annotate(s["recognizer"], (s["nmi"], s["success_rate"]), textcoords="offset points",
+                    xytext=(5, 5 - 12 * below))
+    ax.set(xlabel="open-loop NMI of the tour's map", ylabel="errand success rate",
+           xlim=(-0.05, 1.05), ylim=(-0.05, 1.05), title="Recognizers in closed loop")
+    ax.grid(alpha=0.3)
+    fig.tight_layout()
+    fig.savefig(path, dpi=120)
+    plt.close(fig)
+
+
+def main(argv: list[str] | None = None) -> int:
+    p = argparse.ArgumentParser(prog="python -m train.leaderboard", description=__doc__,
+                                formatter_class=argparse.RawDescriptionHelpFormatter)
+    where = p.add_mutually_exclusive_group()
+    where.add_argument("--split", choices=list(SPLITS), default="test")
+    where.add_argument("--scene-seeds", type=int, nargs="+")
+    p.add_argument("--n-scenes", type=int, default=8, help="buildings taken from --split")
+    p.add_argument("--rooms", type=int, default=6)
+    p.add_argument("--recognizers", nargs="+", choices=RECOGNIZERS, default=list(RECOGNIZERS))
+    p.add_argument("--agent", choices=AGENTS, default="planner")
+    p.add_argument("--policy", type=Path, help="the ppo agent's policy (default: shipped)")
+    p.add_argument("--goals-per-scene", type=int, default=5)
+    p.add_argument("--seed", type=int, default=0)
+    p.add_argument("--out", type=Path, default=Path("runs/leaderboard"))
+    p.add_argument("--workers", type=int, default=2)
+    p.add_argument("--executor", choices=("process", "ray"), default="process")
+    p.add_argument("--docs", metavar="FILE", help="also write the table into FILE's section "
+                   "leaderboard-<split>[-<agent>] (docs/benchmarks.md)")
+    argv = sys.argv[1:] if argv is None else list(argv)
+    args = p.parse_args(argv)
+    seeds = args.scene_seeds or list(scenes(args.split, args.n_scenes))
+    if args.scene_seeds is None:
+        check_split(args.split, seeds)
+    jobs = [{"scene_seed": s, "n_rooms": args.rooms, "recognizer": r, "agent": args.agent,
+             "goals": args.goals_per_scene, "seed": args.seed,
+             **({"policy": str(args.policy)} if args.policy else {})}
+            for r in args.recognizers for s in seeds]
+    try:
+        rows = run_jobs(jobs, args.out, args.workers, args.executor)
+    except (ValueError, FileNotFoundError) as e:
+        print(f"error: {e}", file=sys.stderr)
+        return 2
+    summaries = [summarize([r for r in rows if r["recognizer"] == rec])
+                 for rec in args.recognizers]
+    table = leaderboard(summaries)
+    rho = rank_agreement(summaries) if len(summaries) > 2 else float("nan")
+    minutes = sum(s["seconds"] for s in summaries) / 60
+    split = "scene seeds" if args.scene_seeds else f"{args.split} split, scene seeds"
+    body = (f"{len(seeds)} buildings of {args.rooms} rooms ({split} {seeds}), "
+            f"{args.goals_per_scene} errands each after one guided tour, episode seed "
+            f"{args.seed}, agent `{args.agent}`; {minutes:.0f} minutes of one core in all. "
+            f"Spearman's rank correlation of success with NMI: {rho:.2f}.\n\n{table}")
+    print(body)
+    args.out.mkdir(parents=True, exist_ok=True)
+    (args.out / "leaderboard.json").write_text(json.dumps(summaries, indent=1))
+    plot(summaries, args.out / "success_vs_nmi.png")
+    if args.docs:
+        name = "leaderboard-" + (args.split if args.scene_seeds is None else "scenes")
+        name += "" if args.agent == "planner" else f"-{args.agent}"
+        write_section(args.docs, name, body, shlex.join(["python", "-m", "train.leaderboard",
+                                                         *argv]))
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
