@@ -27,6 +27,7 @@ How it is run:
 
 from __future__ import annotations
 
+import functools
 import hashlib
 import json
 import os
@@ -41,6 +42,8 @@ from placeclust import __version__
 from placeclust.atomic import write_atomic
 from placeclust.features import FEATURES
 from placeclust.runner import ALGORITHMS, check_params
+
+from .pool import run_all
 
 CROSS_ALGOS = ("online",)  # recognizers with a fixed-map (localize-only) mode
 CONDITIONS = ("day", "cloudy", "night", "moved", "noisy")  # the names of envs.changes.CONDITIONS
@@ -364,53 +367,17 @@ def execute(jobs: list[Job], store: RunStore, workers: int = 0, executor: str = 
     # the biggest tours first, so the last job to finish is a short one
     jobs = sorted(jobs, key=lambda j: -sum(s.world_rooms for s in j.specs))
     bar = progress_bar(total=len(jobs), enabled=progress, desc="bench", unit="job")
-    run = _execute_ray if executor == "ray" else _execute_local
+    # local workers record their own runs; Ray's may not share this disk, so the driver does
+    on_ray = executor == "ray"
+    run = functools.partial(run_job, store_dir=None if on_ray else str(store.folder))
     try:
-        for rows in run(jobs, store, workers, ray_address):
+        for _, rows in run_all(run, jobs, workers, executor, ray_address):
+            for row in rows if on_ray else ():
+                store.put(row)
             bar.update()
             yield from rows
     finally:
         bar.close()
-
-
-def _execute_local(jobs: list[Job], store: RunStore, workers: int, _address: None
-                   ) -> Iterator[list[dict]]:
-    import multiprocessing as mp
-    from concurrent.futures import ProcessPoolExecutor, as_completed
-
-    if workers == 1:  # in-process: easier to debug and profile
-        for job in jobs:
-            yield run_job(job, str(store.folder))
-        return
-    # spawn, never fork: a forked child of a process that has rendered deadlocks in Mesa's EGL
-    with ProcessPoolExecutor(workers, mp_context=mp.get_context("spawn")) as pool:
-        futures = [pool.submit(run_job, job, str(store.folder)) for job in jobs]
-        try:
-            for fut in as_completed(futures):
-                yield fut.result()
-        except BaseException:
-            pool.shutdown(cancel_futures=True)
-            raise
-
-
-def _execute_ray(jobs: list[Job], store: RunStore, workers: int, address: str | None
-                 ) -> Iterator[list[dict]]:
-    try:
-        import ray
-    except ImportError as exc:
-        raise ValueError("executor 'ray' needs Ray: pip install 'placeclust[ray]'") from exc
-    if not ray.is_initialized():
-        kwargs = {"address": address} if address else {"num_cpus": workers}
-        ray.init(include_dashboard=False, log_to_driver=False, **kwargs)
-    task = ray.remote(num_cpus=1)(run_job)
-    # rows come back to the driver, which records them: Ray workers may not share its disk
-    pending = [task.remote(job, None) for job in jobs]
-    while pending:
-        ready, pending = ray.wait(pending, num_returns=1)
-        rows = ray.get(ready[0])
-        for row in rows:
-            store.put(row)
-        yield rows
 
 
 def run_bench(matrix: Matrix, out: str | os.PathLike, workers: int = 0, executor: str = "process",

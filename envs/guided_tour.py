@@ -216,6 +216,7 @@ class GuidedTourEnv(gym.Env, gym.utils.EzPickle):
         self._pose = np.zeros(3)
         self._tour_rooms = np.zeros(0, np.int64)
         self._room = 0  # the last room the robot was in (a doorway is in none)
+        self._goal_id = 0  # the current errand's room
 
     @property
     def plan(self):
@@ -267,7 +268,7 @@ class GuidedTourEnv(gym.Env, gym.utils.EzPickle):
         errand.path += math.dist(self._pose[:2], info["pose"][:2])
         self._pose = info["pose"]
         distance = self._goal_distance(info)
-        success = info["room_id"] == self.plan.room_by_name(errand.goal).id
+        success = info["room_id"] == self._goal_id
         reward = self.shaping * (self._distance - distance) - self.step_cost
         reward += self.success_reward if success else 0.0
         self._distance = distance
@@ -344,11 +345,12 @@ class GuidedTourEnv(gym.Env, gym.utils.EzPickle):
             others = [n for n in self._named if n != here] or self._named
             goal = others[int(self.np_random.integers(len(others)))]
         self._errands.append(Errand(goal))
+        self._goal_id = self.plan.room_by_name(goal).id
         self._distance = self._goal_distance(info)
         self._errands[-1].shortest = self._distance
 
     def _goal_distance(self, info: dict[str, Any]) -> float:
-        goal = self.plan.room_by_name(self._errands[-1].goal).id
+        goal = self._goal_id
         if info["room_id"] >= 0:
             self._room = info["room_id"]
         # in a doorway (no room) the distance is measured from the room it is leaving

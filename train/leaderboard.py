@@ -18,11 +18,11 @@ import argparse
 import json
 import shlex
 import sys
-from collections.abc import Iterator
 from pathlib import Path
 from typing import Any
 
 from envs.guided_tour import RECOGNIZERS
+from envs.pool import run_all
 from envs.splits import SPLITS, check_split, scenes
 from placeclust import __version__
 from placeclust.atomic import write_atomic
@@ -41,6 +41,14 @@ def job_key(job: dict[str, Any]) -> str:
             f"-rooms{job['n_rooms']}-goals{job['goals']}-seed{job['seed']}")
 
 
+def make_jobs(scene_seeds: list[int], recognizers: list[str], n_rooms: int, agent: str,
+              goals: int, seed: int, policy: Path | None = None) -> list[dict[str, Any]]:
+    """One :func:`~train.unseen.run_scene` job per recognizer and building."""
+    extra = {"policy": str(policy)} if policy else {}
+    return [{"scene_seed": s, "n_rooms": n_rooms, "recognizer": r, "agent": agent,
+             "goals": goals, "seed": seed, **extra} for r in recognizers for s in scene_seeds]
+
+
 def run_jobs(jobs: list[dict[str, Any]], out: Path | None = None, workers: int = 1,
              executor: str = "process", progress: bool = True) -> list[dict[str, Any]]:
     """Run :func:`~train.unseen.run_scene` for each job (its keyword arguments); the rows.
@@ -48,8 +56,6 @@ def run_jobs(jobs: list[dict[str, Any]], out: Path | None = None, workers: int =
     With ``out``, each row is kept in ``out/runs/<key>.json`` and a row already there from
     this version of placeclust is not run again.
     """
-    if executor not in ("process", "ray"):
-        raise ValueError(f"unknown executor {executor!r}; choose 'process' or 'ray'")
     store = None if out is None else Path(out) / "runs"
     done = {}
     if store is not None:
@@ -63,8 +69,7 @@ def run_jobs(jobs: list[dict[str, Any]], out: Path | None = None, workers: int =
     todo = sorted((j for j in jobs if job_key(j) not in done),
                   key=lambda j: COST.get(j["recognizer"], 0))
     bar = progress_bar(total=len(todo), enabled=progress, desc="errands", unit="building")
-    run = _run_ray if executor == "ray" else _run_local
-    for job, row in run(todo, workers):
+    for job, row in run_all(_run_job, todo, workers, executor):
         row["version"] = __version__
         done[job_key(job)] = row
         if store is not None:
@@ -77,39 +82,6 @@ def run_jobs(jobs: list[dict[str, Any]], out: Path | None = None, workers: int =
 
 def _run_job(job: dict[str, Any]) -> dict[str, Any]:
     return run_scene(**job)
-
-
-def _run_local(jobs: list[dict], workers: int) -> Iterator[tuple[dict, dict]]:
-    if workers <= 1:
-        for job in jobs:
-            yield job, run_scene(**job)
-        return
-    import multiprocessing as mp
-    from concurrent.futures import ProcessPoolExecutor, as_completed
-
-    # spawn, never fork: a forked child of a process that has rendered deadlocks in Mesa's EGL
-    with ProcessPoolExecutor(workers, mp_context=mp.get_context("spawn")) as pool:
-        futures = {pool.submit(run_scene, **job): job for job in jobs}
-        try:
-            for fut in as_completed(futures):
-                yield futures[fut], fut.result()
-        except BaseException:
-            pool.shutdown(cancel_futures=True)
-            raise
-
-
-def _run_ray(jobs: list[dict], workers: int) -> Iterator[tuple[dict, dict]]:
-    try:
-        import ray
-    except ImportError as exc:
-        raise ValueError("executor 'ray' needs Ray: pip install 'placeclust[ray]'") from exc
-    if not ray.is_initialized():
-        ray.init(include_dashboard=False, log_to_driver=False, num_cpus=max(workers, 1))
-    task = ray.remote(num_cpus=1)(_run_job)
-    pending = {task.remote(job): job for job in jobs}
-    while pending:
-        ready, _ = ray.wait(list(pending), num_returns=1)
-        yield pending.pop(ready[0]), ray.get(ready[0])
 
 
 def leaderboard(summaries: list[dict[str, Any]]) -> str:
@@ -179,10 +151,8 @@ def main(argv: list[str] | None = None) -> int:
     seeds = args.scene_seeds or list(scenes(args.split, args.n_scenes))
     if args.scene_seeds is None:
         check_split(args.split, seeds)
-    jobs = [{"scene_seed": s, "n_rooms": args.rooms, "recognizer": r, "agent": args.agent,
-             "goals": args.goals_per_scene, "seed": args.seed,
-             **({"policy": str(args.policy)} if args.policy else {})}
-            for r in args.recognizers for s in seeds]
+    jobs = make_jobs(seeds, args.recognizers, args.rooms, args.agent, args.goals_per_scene,
+                     args.seed, args.policy)
     try:
         rows = run_jobs(jobs, args.out, args.workers, args.executor)
     except (ValueError, FileNotFoundError) as e:

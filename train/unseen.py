@@ -134,7 +134,7 @@ def main(argv: list[str] | None = None) -> int:
     import sys
 
     from envs.splits import SPLITS, check_split, scenes
-    from train.leaderboard import run_jobs
+    from train.leaderboard import make_jobs, run_jobs
 
     p = argparse.ArgumentParser(prog="python -m train.evaluate --task unseen",
                                 description=__doc__,
@@ -159,9 +159,8 @@ def main(argv: list[str] | None = None) -> int:
         check_split(args.split, seeds)
     if args.goals_per_scene < 1:
         p.error(f"--goals-per-scene must be positive, got {args.goals_per_scene}")
-    jobs = [{"scene_seed": s, "n_rooms": args.rooms, "recognizer": args.recognizer,
-             "agent": args.agent, "goals": args.goals_per_scene, "seed": args.seed,
-             **({"policy": str(args.policy)} if args.policy else {})} for s in seeds]
+    jobs = make_jobs(seeds, [args.recognizer], args.rooms, args.agent, args.goals_per_scene,
+                     args.seed, args.policy)
     try:
         rows = run_jobs(jobs, args.out, args.workers)
     except (ValueError, FileNotFoundError) as e:
