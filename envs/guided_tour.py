@@ -212,6 +212,7 @@ class GuidedTourEnv(gym.Env, gym.utils.EzPickle):
         self._named: list[str] = []
         self._goals: list[str] = []
         self._errands: list[Errand] = []
+        self._over = True  # until the first reset
         self._distance = 0.0
         self._pose = np.zeros(3)
         self._tour_rooms = np.zeros(0, np.int64)
@@ -251,7 +252,7 @@ class GuidedTourEnv(gym.Env, gym.utils.EzPickle):
                 raise ValueError(f"errand goals {unheard} were never named on the tour; the "
                                  f"guide named {self._named}")
         self._goals = list(goals) if goals is not None else []
-        self._errands = []
+        self._errands, self._over = [], False
         self._pose = info["pose"]
         self._start_errand(info)
         return self._observation(obs, info), {
@@ -260,7 +261,7 @@ class GuidedTourEnv(gym.Env, gym.utils.EzPickle):
 
     def step(self, action: np.ndarray
              ) -> tuple[dict[str, Any], float, bool, bool, dict[str, Any]]:
-        if len(self._errands) > self.n_errands or not self._errands:
+        if self._over:
             raise RuntimeError("the episode is over; call reset()")
         obs, _, _, _, info = self._env.step(action)
         errand = self._errands[-1]
@@ -278,9 +279,8 @@ class GuidedTourEnv(gym.Env, gym.utils.EzPickle):
             errand.success = bool(success)
             out.update(errand_result=errand.as_dict(), is_success=errand.success)
             if len(self._errands) == self.n_errands:
-                terminated = True
+                terminated = self._over = True
                 out["errands"] = [e.as_dict() for e in self._errands]
-                self._errands.append(Errand(""))  # marks the episode over
             else:
                 self._start_errand(info)
                 out.update(errand=len(self._errands) - 1, goal=self._errands[-1].goal)

@@ -39,6 +39,7 @@ def test_errands_end_the_episode_with_their_outcomes(make_tour):
         if "errand_result" in info:
             ends.append(info["errand_result"])
     assert len(ends) == 2 and info["errands"] == ends and steps <= 2 * 60
+    assert obs in env.observation_space  # the last observation too
     assert all(e["steps"] <= 60 and 0.0 <= e["spl"] <= 1.0 for e in ends)
     with pytest.raises(RuntimeError, match="reset"):
         env.step(np.zeros(2, np.float32))
