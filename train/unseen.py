@@ -58,12 +58,18 @@ def run_scene(scene_seed: int, n_rooms: int = 6, recognizer: str = "online",
         raise ValueError(f"unknown agent {agent!r}; choose one of {AGENTS}")
     if recognizer not in RECOGNIZERS:
         raise ValueError(f"unknown recognizer {recognizer!r}; choose one of {RECOGNIZERS}")
+    model = _load_policy(Path(policy or POLICY)) if agent == "ppo" else None
     start = time.perf_counter()
     env = gym.make("PlaceNav-GuidedTour-v0", recognizer=recognizer, scene_seed=scene_seed,
                    n_rooms=n_rooms, n_errands=goals, **task)
+    if model is not None:  # the learned agent sees the planner's hints and corrects its action
+        from train.errand_agent import PlannerHints
+
+        env = PlannerHints(env, seed)
     try:
         obs, info = env.reset(seed=seed * 100_003 + scene_seed)
-        act = _agent(agent, env, info, obs, seed, None if policy is None else Path(policy))
+        act = (_agent(agent, env, info, obs, seed) if model is None
+               else lambda x: model.predict(x, deterministic=True)[0])
         done = False
         while not done:
             obs, _, done, _, step_info = env.step(act(obs))
@@ -77,38 +83,24 @@ def run_scene(scene_seed: int, n_rooms: int = 6, recognizer: str = "online",
             **info["map"], "errands": errands, "seconds": time.perf_counter() - start}
 
 
-def _agent(kind: str, env: gym.Env, info: dict, obs: dict, seed: int, policy: Path | None):
+def _agent(kind: str, env: gym.Env, info: dict, obs: dict, seed: int):
     if kind == "random":
         rng = np.random.default_rng(seed)
         return lambda _obs: rng.uniform(-1, 1, 2).astype(np.float32)
-    if kind == "ppo":
-        return _Learned(policy or POLICY, env.unwrapped.max_places, info["tour"], obs, seed)
     planner = TourPlanner(unknown=env.unwrapped.max_places, seed=seed)
     planner.reset(info["tour"], obs)
     return planner.act
 
 
-class _Learned:
-    """The PPO errand agent (:mod:`train.errand_agent`) as a callable ``obs -> action``."""
+def _load_policy(policy: Path):
+    """The PPO errand agent's model (:mod:`train.errand_agent`)."""
+    from stable_baselines3 import PPO
 
-    def __init__(self, policy: Path, unknown: int, tour, obs: dict, seed: int) -> None:
-        from stable_baselines3 import PPO
-
-        from train.errand_agent import HintFeatures
-
-        if not Path(policy).is_file():
-            raise FileNotFoundError(f"no policy file {policy}; train one with python -m "
-                                    "train.train --agent errands --config "
-                                    "train/hyperparams/ppo_errands.yml")
-        self.model = PPO.load(policy, device="cpu")
-        self.features = HintFeatures(unknown, seed)
-        self._first: np.ndarray | None = self.features.reset(tour, obs)
-
-    def __call__(self, obs: dict) -> np.ndarray:
-        from train.errand_agent import residual
-
-        x, self._first = (self._first if self._first is not None else self.features(obs)), None
-        return residual(x, self.model.predict(x, deterministic=True)[0])
+    if not policy.is_file():
+        raise FileNotFoundError(f"no policy file {policy}; train one with python -m "
+                                "train.train --agent errands --config "
+                                "train/hyperparams/ppo_errands.yml")
+    return PPO.load(policy, device="cpu")
 
 
 def summarize(rows: list[dict[str, Any]]) -> dict[str, Any]:

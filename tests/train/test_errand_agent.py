@@ -37,3 +37,13 @@ def test_training_buildings_come_from_the_train_split_and_change():
         assert len(seen) > 1 and seen <= {0, 1, 2}  # not one building over and over
     finally:
         env.close()
+
+
+def test_the_shipped_policy_runs_errands_and_a_missing_one_is_named(tmp_path):
+    from train.unseen import run_scene
+
+    row = run_scene(3, n_rooms=3, recognizer="oracle", agent="ppo", goals=2, seed=0,
+                    tour_steps_per_room=40)
+    assert len(row["errands"]) == 2 and 0.0 <= row["success_rate"] <= 1.0
+    with pytest.raises(FileNotFoundError, match="train.train --agent errands"):
+        run_scene(3, recognizer="oracle", agent="ppo", policy=tmp_path / "none.zip")
