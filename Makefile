@@ -7,7 +7,7 @@ PIP := $(PY) -m pip
 export MUJOCO_GL ?= egl
 
 .PHONY: demo test benchmarks bench bench-quick bench-long bench-env bench-latency train eval \
-	leaderboard train-errands clean
+	leaderboard train-errands seed001 clean
 
 $(VENV)/.installed: pyproject.toml
 	$(PYTHON) -m venv $(VENV)
@@ -32,7 +32,7 @@ PANORAMA_TOURS := --algos online --features sift --conditions day --scenes 0 1 2
 SPLIT_TOURS := --preset panorama --algos online --features sift orb --conditions day \
 	--rooms 4 8 12 --tour-seeds 0 1 --steps-per-room 150 --latency-sizes
 # the offline baselines given as many places as rooms, or as the online recognizer opened
-MATCHED := --algos kmeans wpgma --conditions day --latency-sizes
+MATCHED := --algos kmeans wpgma kunion --conditions day --latency-sizes
 benchmarks: $(VENV)/.installed
 	$(VENV)/bin/placeclust demo --out runs/demo $(DOCS)
 	$(VENV)/bin/placeclust bench $(PANORAMA_TOURS) --param view=sides --param kernel_capacity=600 \
@@ -46,6 +46,9 @@ benchmarks: $(VENV)/.installed
 	$(VENV)/bin/placeclust bench --preset panorama --algos online --features sift --conditions day \
 		--rooms 4 8 12 --tour-seeds 0 1 --steps-per-room 250 --latency-sizes --split test \
 		--out runs/panorama-test-250 $(DOCS)
+	$(PY) -m envs.seed001 --split test --rooms 6 --workers 2 $(DOCS) --section seed001-test
+	$(PY) -m envs.seed001 --split test --rooms 6 --workers 2 --param min_matches=250 $(DOCS) \
+		--section seed001-test-250
 	$(PY) -m placeclust.benchmark latency $(DOCS)
 	$(PY) -m placeclust.benchmark latency --param consolidate=0.85 --section latency-consolidate \
 		$(DOCS)
@@ -90,6 +93,10 @@ leaderboard: $(VENV)/.installed
 		--out runs/leaderboard
 
 # reproduces assets/policies/errands/ppo_errands.zip, the learned errand agent
+# seed 001 on its paper's camera: Tables 2-3 and a second drive, 4 test buildings (~7 min)
+seed001: $(VENV)/.installed
+	$(PY) -m envs.seed001 --split test --rooms 6 --workers 2
+
 train-errands: $(VENV)/.installed
 	$(PY) -m train.train --agent errands --config train/hyperparams/ppo_errands.yml \
 		--out runs/train/errands_s0

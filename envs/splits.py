@@ -15,6 +15,7 @@ Examples:
 
 from __future__ import annotations
 
+import argparse
 from collections.abc import Iterable, Mapping
 from types import MappingProxyType
 
@@ -54,3 +55,44 @@ def check_split(split: str, scene_seeds: Iterable[int]) -> None:
     if outside:
         raise ValueError(f"scene seeds {outside} are not in the {split!r} split "
                          f"({SPLITS[split].start}-{SPLITS[split].stop - 1})")
+
+
+def add_scope_arguments(parser: argparse.ArgumentParser, n_scenes: int = N_SCENES,
+                        default_split: str | None = None) -> None:
+    """Give a command ``--split NAME | --scene-seeds S ...`` and ``--n-scenes N``.
+
+    Read them back with :func:`scope_seeds`. Without ``default_split`` one of the two is
+    required.
+    """
+    where = parser.add_mutually_exclusive_group(required=default_split is None)
+    where.add_argument("--split", choices=list(SPLITS), default=default_split,
+                       help="take the first --n-scenes buildings of this split")
+    where.add_argument("--scene-seeds", type=int, nargs="+", metavar="SEED",
+                       help="these buildings (their figures belong to no split)")
+    parser.add_argument("--n-scenes", type=int, default=n_scenes,
+                        help=f"buildings taken from --split (default {n_scenes})")
+
+
+def scope_seeds(args: argparse.Namespace, parser: argparse.ArgumentParser) -> list[int]:
+    """The scene seeds :func:`add_scope_arguments`' arguments name.
+
+    Sets ``args.split`` to None when ``--scene-seeds`` was given; a bad ``--n-scenes`` is a
+    parser error (exit 2).
+
+    Examples:
+        >>> import argparse
+        >>> from envs.splits import add_scope_arguments, scope_seeds
+        >>> parser = argparse.ArgumentParser()
+        >>> add_scope_arguments(parser, n_scenes=2)
+        >>> scope_seeds(parser.parse_args(["--split", "val"]), parser)
+        [1000, 1001]
+        >>> args = parser.parse_args(["--scene-seeds", "7", "2001"])
+        >>> scope_seeds(args, parser), args.split
+        ([7, 2001], None)
+    """
+    if args.scene_seeds:
+        args.split = None
+        return list(args.scene_seeds)
+    if args.n_scenes < 1:
+        parser.error(f"--n-scenes must be positive, got {args.n_scenes}")
+    return list(scenes(args.split, args.n_scenes))

@@ -4,6 +4,8 @@ from __future__ import annotations
 
 import networkx as nx
 import numpy as np
+from scipy.cluster.hierarchy import fcluster, linkage
+from scipy.spatial.distance import squareform
 
 from placeclust.baselines import describe_all, scene_changes
 from placeclust.features import FeatureExtractor
@@ -24,6 +26,14 @@ class KAdjacentUnion:
     when two consecutive frames agree on another one; (7) kernels are recomputed; (8) repeat until
     no assignment changes (or ``max_iter``).
 
+    Step 4 does not say how similar is similar. With ``join_similarity`` it is a threshold, and
+    joining is transitive (the connected components of the pairs above it), the literal
+    reading; on panoramas a few cross-room pairs above it chain every room into one cluster
+    (``docs/design.md``). With ``n_clusters`` the most similar clusters are joined instead
+    (average linkage on Eq. 4 similarities) until ``n_clusters`` remain, for comparisons at
+    matched numbers of places; a sequence with fewer scene changes keeps its ``k``, and steps 5-7
+    may still empty a cluster.
+
     Args:
         features: local feature type.
         join_similarity: Eq. 4 similarity above which two kernels are joined (step 4).
@@ -35,6 +45,7 @@ class KAdjacentUnion:
         normalize: contrast normalization (:class:`~placeclust.features.FeatureExtractor`).
         scale: resize factor before detection (:class:`~placeclust.features.FeatureExtractor`).
         view: ``"full"`` or ``"sides"`` of a panorama (:data:`~placeclust.features.VIEWS`).
+        n_clusters: join down to this many clusters instead of by ``join_similarity``.
 
     Attributes:
         graph: the place graph of the last iteration (step 4).
@@ -54,7 +65,9 @@ class KAdjacentUnion:
     def __init__(self, features: str = "sift", join_similarity: float = 0.15, window: int = 15,
                  max_iter: int = 8, kernel_stride: int = 3, kernel_capacity: int = 1200,
                  max_features: int = 500, normalize: str | None = "clahe",
-                 scale: float = 1.0, view: str = "full") -> None:
+                 scale: float = 1.0, view: str = "full", n_clusters: int | None = None) -> None:
+        if n_clusters is not None and n_clusters < 1:
+            raise ValueError(f"n_clusters must be a positive number of places, got {n_clusters}")
         self.features = features
         self.join_similarity = join_similarity
         self.window = window
@@ -65,6 +78,7 @@ class KAdjacentUnion:
         self.normalize = normalize
         self.scale = scale
         self.view = view
+        self.n_clusters = n_clusters
         self.graph = nx.Graph()
         self.n_iter_ = 0
 
@@ -113,20 +127,32 @@ class KAdjacentUnion:
 
     def _join(self, kernels: dict[int, UnionKernel], labels: np.ndarray, binary: bool
               ) -> np.ndarray:
-        """Step 3-4: merge clusters whose kernels are similar (Eq. 4)."""
+        """Steps 3-4: merge clusters whose kernels are similar (Eq. 4)."""
         ids = sorted(kernels)
-        g = nx.Graph()
-        g.add_nodes_from(ids)
+        sim = np.eye(len(ids))
         for i, a in enumerate(ids):
-            for b in ids[i + 1:]:
-                ka, kb = kernels[a], kernels[b]
-                sim = dice_eq4(len(kb.match(ka.descriptors)[0]), len(kb), len(ka))
-                if sim > self.join_similarity:
-                    g.add_edge(a, b)
+            for j in range(i + 1, len(ids)):
+                ka, kb = kernels[a], kernels[ids[j]]
+                sim[i, j] = sim[j, i] = dice_eq4(len(kb.match(ka.descriptors)[0]), len(kb),
+                                                 len(ka))
         out = labels.copy()
-        for comp in nx.connected_components(g):
-            out[np.isin(labels, list(comp))] = min(comp)
+        for group in self._groups(sim):
+            members = [ids[i] for i in group]
+            out[np.isin(labels, members)] = min(members)
         return out
+
+    def _groups(self, sim: np.ndarray) -> list[list[int]]:
+        """Indices of the kernels to join into one cluster, group by group."""
+        if self.n_clusters is None:
+            g = nx.Graph()
+            g.add_nodes_from(range(len(sim)))
+            g.add_edges_from(zip(*np.nonzero(np.triu(sim > self.join_similarity, 1))))
+            return [sorted(c) for c in nx.connected_components(g)]
+        if len(sim) <= self.n_clusters:
+            return [[i] for i in range(len(sim))]
+        tree = linkage(squareform(1.0 - sim, checks=False), "average")
+        cut = fcluster(tree, self.n_clusters, "maxclust")
+        return [np.flatnonzero(cut == c).tolist() for c in np.unique(cut)]
 
     @staticmethod
     def _place_graph(labels: np.ndarray) -> nx.Graph:

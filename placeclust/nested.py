@@ -63,11 +63,12 @@ class NestedMapper:
 
     The paper leaves the termination limit ``N`` open; ``max_missed`` = 8 key frames here.
 
-    The paper's 25 matches were set for a forward camera, whose view breaks at a door. A 360°
-    panorama keeps part of the last room in view, and a location holds the points of its last
-    ``max_missed`` key frames, so consecutive key frames always share far more than 25 points
-    and no count separates rooms cleanly: on panoramas the default keeps a single location
-    (``docs/design.md``); ``min_matches`` is a parameter.
+    A location holds the points of its last ``max_missed`` key frames, so it follows the robot,
+    and only a key frame sharing fewer than ``min_matches`` points with it opens another. In the
+    simulator's buildings that never happens at a door, with the panorama or the forward camera:
+    the next room is in view before the robot enters it, and the default keeps one location
+    (``python -m envs.seed001``, ``docs/design.md``). :meth:`localize_one` relocalizes on the map
+    without changing it.
 
     Args:
         features: local features (the paper uses SIFT).
@@ -82,6 +83,10 @@ class NestedMapper:
         ratio: Lowe's ratio for correspondences.
         normalize: contrast normalization (:class:`~placeclust.features.FeatureExtractor`).
         scale: resize factor before detection (:class:`~placeclust.features.FeatureExtractor`).
+
+    Attributes:
+        last_was_keyframe: whether the last frame was a key frame.
+        last_matches: the last key frame's matches with the best location it was compared with.
 
     Examples:
         Four jittered views of one synthetic place, then four of another: only the first view
@@ -139,6 +144,7 @@ class NestedMapper:
         self.view_graphs: dict[int, nx.Graph] = {}  # level 2: views of each location
         self.current: tuple[int, int] = (UNKNOWN, UNKNOWN)
         self.last_was_keyframe = False
+        self.last_matches = 0  # matches of the last key frame with its best location
         self.frame_shape: tuple[int, int] | None = None
         self._last_key: np.ndarray | None = None
         self._index = PlaceIndex(self._extractor.binary, self._index_sample)
@@ -177,6 +183,56 @@ class NestedMapper:
             return UNKNOWN
         loc, n = self._best_location(desc)
         return loc if n >= self.min_matches else UNKNOWN
+
+    def localize_one(self, frame: np.ndarray) -> int:
+        """Relocalize on a fixed map (Sec. 4.6): the location of ``frame``, or -1.
+
+        The key-frame gate runs as when mapping, and a non-key frame keeps the last answer. A key
+        frame goes to the location with most matches among the ranked ones if it has at least
+        ``min_matches``, else -1; the map is never changed: no point is tracked, added or
+        terminated, and no location, view or edge is opened. This is how a second drive is
+        scored against the map of the first (``python -m envs.seed001``).
+
+        Args:
+            frame: an image (see :func:`~placeclust.frames.to_gray`), the size of the map's
+                frames.
+
+        Returns:
+            The location, or -1 (no location has ``min_matches`` matches, or no map yet).
+
+        Examples:
+            >>> from placeclust.nested import NestedMapper
+            >>> from placeclust.synthetic import places
+            >>> frames, truth = places(4)
+            >>> mapper = NestedMapper()
+            >>> [mapper.learn_predict_one(f) for f in frames][::4]
+            [0, 1]
+            >>> mapper.reset_position()
+            >>> [mapper.localize_one(f) for f in frames[::-1]][::4], mapper.n_places
+            ([1, 0], 2)
+        """
+        gray = to_gray(frame)
+        self.frame_shape = check_size(gray, self.frame_shape)
+        self.last_was_keyframe = self._is_keyframe(gray)
+        if not self.last_was_keyframe:
+            return self.current[0]
+        self._last_key = gray
+        desc = self._describe(gray)
+        if len(desc) < 2 or not self.locations:
+            self.current, self.last_matches = (UNKNOWN, UNKNOWN), 0
+            return UNKNOWN
+        loc, n = self._best_location(desc)
+        self.last_matches = n
+        self.current = (loc, UNKNOWN) if n >= self.min_matches else (UNKNOWN, UNKNOWN)
+        return self.current[0]
+
+    def reset_position(self) -> None:
+        """Forget where the robot is (a new drive starts); the map is kept.
+
+        The next frame is a key frame, and is searched among the ranked locations only.
+        """
+        self.current = (UNKNOWN, UNKNOWN)
+        self._last_key = None
 
     def localize(self, frame: np.ndarray) -> tuple[int, int]:
         """Two-level localization (Sec. 4.6) of ``frame``, learning as it goes.
@@ -233,6 +289,7 @@ class NestedMapper:
 
     def _locate(self, desc: np.ndarray) -> int:
         loc, n = self._best_location(desc) if self.locations else (UNKNOWN, 0)
+        self.last_matches = n
         last = self.current[0]
         if n < self.min_matches:
             loc = len(self.locations)

@@ -23,7 +23,7 @@ from typing import Any
 
 from envs.guided_tour import RECOGNIZERS
 from envs.pool import run_all
-from envs.splits import SPLITS, check_split, scenes
+from envs.splits import add_scope_arguments, scope_seeds
 from placeclust import __version__
 from placeclust.atomic import write_atomic
 from placeclust.docs_section import write_section
@@ -131,10 +131,7 @@ def plot(summaries: list[dict[str, Any]], path: Path) -> None:
 def main(argv: list[str] | None = None) -> int:
     p = argparse.ArgumentParser(prog="python -m train.leaderboard", description=__doc__,
                                 formatter_class=argparse.RawDescriptionHelpFormatter)
-    where = p.add_mutually_exclusive_group()
-    where.add_argument("--split", choices=list(SPLITS), default="test")
-    where.add_argument("--scene-seeds", type=int, nargs="+")
-    p.add_argument("--n-scenes", type=int, default=8, help="buildings taken from --split")
+    add_scope_arguments(p, n_scenes=8, default_split="test")
     p.add_argument("--rooms", type=int, default=6)
     p.add_argument("--recognizers", nargs="+", choices=RECOGNIZERS, default=list(RECOGNIZERS))
     p.add_argument("--agent", choices=AGENTS, default="planner")
@@ -148,9 +145,7 @@ def main(argv: list[str] | None = None) -> int:
                    "leaderboard-<split>[-<agent>] (docs/benchmarks.md)")
     argv = sys.argv[1:] if argv is None else list(argv)
     args = p.parse_args(argv)
-    seeds = args.scene_seeds or list(scenes(args.split, args.n_scenes))
-    if args.scene_seeds is None:
-        check_split(args.split, seeds)
+    seeds = scope_seeds(args, p)
     jobs = make_jobs(seeds, args.recognizers, args.rooms, args.agent, args.goals_per_scene,
                      args.seed, args.policy)
     try:
@@ -163,7 +158,7 @@ def main(argv: list[str] | None = None) -> int:
     table = leaderboard(summaries)
     rho = rank_agreement(summaries) if len(summaries) > 2 else float("nan")
     minutes = sum(s["seconds"] for s in summaries) / 60
-    split = "scene seeds" if args.scene_seeds else f"{args.split} split, scene seeds"
+    split = f"{args.split} split, scene seeds" if args.split else "scene seeds"
     body = (f"{len(seeds)} buildings of {args.rooms} rooms ({split} {seeds}), "
             f"{args.goals_per_scene} errands each after one guided tour, episode seed "
             f"{args.seed}, agent `{args.agent}`; {minutes:.0f} minutes of one core in all. "
@@ -173,7 +168,7 @@ def main(argv: list[str] | None = None) -> int:
     (args.out / "leaderboard.json").write_text(json.dumps(summaries, indent=1))
     plot(summaries, args.out / "success_vs_nmi.png")
     if args.docs:
-        name = "leaderboard-" + (args.split if args.scene_seeds is None else "scenes")
+        name = "leaderboard-" + (args.split or "scenes")
         name += "" if args.agent == "planner" else f"-{args.agent}"
         write_section(args.docs, name, body, shlex.join(["python", "-m", "train.leaderboard",
                                                          *argv]))

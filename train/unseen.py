@@ -125,17 +125,14 @@ def main(argv: list[str] | None = None) -> int:
     import json
     import sys
 
-    from envs.splits import SPLITS, check_split, scenes
+    from envs.splits import add_scope_arguments, scope_seeds
     from train.leaderboard import make_jobs, run_jobs
 
     p = argparse.ArgumentParser(prog="python -m train.evaluate --task unseen",
                                 description=__doc__,
                                 formatter_class=argparse.RawDescriptionHelpFormatter)
     p.add_argument("--task", choices=("unseen",), default="unseen")
-    where = p.add_mutually_exclusive_group(required=True)
-    where.add_argument("--split", choices=list(SPLITS))
-    where.add_argument("--scene-seeds", type=int, nargs="+")
-    p.add_argument("--n-scenes", type=int, default=8, help="buildings taken from --split")
+    add_scope_arguments(p, n_scenes=8)
     p.add_argument("--rooms", type=int, default=6)
     p.add_argument("--recognizer", choices=RECOGNIZERS, required=True)
     p.add_argument("--agent", choices=AGENTS, default="planner")
@@ -146,9 +143,7 @@ def main(argv: list[str] | None = None) -> int:
     p.add_argument("--workers", type=int, default=1)
     p.add_argument("--out", type=Path, help="keep each building's result here and resume")
     args = p.parse_args(argv)
-    seeds = args.scene_seeds or list(scenes(args.split, args.n_scenes))
-    if args.split:
-        check_split(args.split, seeds)
+    seeds = scope_seeds(args, p)
     if args.goals_per_scene < 1:
         p.error(f"--goals-per-scene must be positive, got {args.goals_per_scene}")
     jobs = make_jobs(seeds, [args.recognizer], args.rooms, args.agent, args.goals_per_scene,

@@ -7,6 +7,7 @@ from gymnasium.utils.env_checker import check_env
 from envs.place_id import PlaceIdWrapper, TrueRoomWrapper
 from placeclust import UNKNOWN, OnlinePlaceClustering
 from placeclust.nested import NestedMapper
+from placeclust.null import RandomPlaces
 
 
 class Counter:
@@ -111,13 +112,31 @@ def test_fixed_map_localizes_without_learning(task, tmp_path):
     assert fixed.n_places == n and info["n_places"] == n
 
 
+def test_a_nested_map_localizes_without_learning(task):
+    mapper = PlaceIdWrapper(task, NestedMapper(min_matches=150))
+    mapper.reset(seed=0)
+    for _ in range(40):
+        mapper.step(np.array([1.0, 0.4], np.float32))
+    nested = mapper.recognizer
+    n, points = nested.n_places, sum(len(loc.descriptors) for loc in nested.locations.values())
+    w = PlaceIdWrapper(task, nested, learn=False)
+    obs, _ = w.reset(seed=0)
+    seen = [obs["place_id"]]
+    for _ in range(20):
+        obs, _, _, _, info = w.step(np.array([1.0, 0.4], np.float32))
+        seen.append(obs["place_id"])
+    assert nested.n_places == n == info["n_places"]
+    assert sum(len(loc.descriptors) for loc in nested.locations.values()) == points
+    assert any(p < n for p in seen)  # the start is on the map it drove
+
+
 def test_bad_configurations():
     no_pano = gym.make("PlaceNav-ReachRoom-v0", panorama=False)
     with pytest.raises(ValueError, match="panorama"):
         PlaceIdWrapper(no_pano)
     env = gym.make("PlaceNav-ReachRoom-v0")
     with pytest.raises(ValueError, match="localize_one"):
-        PlaceIdWrapper(env, NestedMapper(), learn=False)
+        PlaceIdWrapper(env, RandomPlaces(), learn=False)
     with pytest.raises(ValueError, match="max_places"):
         PlaceIdWrapper(env, max_places=0)
 

@@ -20,6 +20,33 @@ def test_nested_mapper_two_locations_and_keyframes(two_places):
     assert not mapper.last_was_keyframe  # same picture: no key frame, same answer
 
 
+def test_nested_relocalization_leaves_the_map_as_it_was(two_places):
+    frames, truth = two_places
+    mapper = NestedMapper()
+    for f in frames:
+        mapper.learn_one(f)
+    points = {i: loc.descriptors.copy() for i, loc in mapper.locations.items()}
+    views = {i: len(loc.views) for i, loc in mapper.locations.items()}
+    edges = set(mapper.graph.edges)
+    mapper.reset_position()
+    found = [mapper.localize_one(f) for f in frames[::-1]]
+    assert found[0] == 1 and found[-1] == 0 and mapper.n_places == 2
+    assert set(mapper.graph.edges) == edges
+    for i, loc in mapper.locations.items():
+        assert np.array_equal(loc.descriptors, points[i]) and len(loc.views) == views[i]
+    assert mapper.last_matches >= mapper.min_matches
+
+
+def test_nested_relocalization_of_an_unseen_place_is_unknown(two_places):
+    frames, _ = two_places
+    mapper = NestedMapper()
+    for f in frames[:20]:
+        mapper.learn_one(f)
+    mapper.reset_position()
+    assert mapper.localize_one(frames[-1]) == -1 and mapper.n_places == 1
+    assert NestedMapper().localize_one(frames[0]) == -1  # no map yet
+
+
 def test_haar_signature_level4_and_similarity():
     rng = np.random.default_rng(0)
     img = rng.integers(0, 255, (64, 256)).astype(np.uint8)
@@ -49,3 +76,17 @@ def test_metrics_on_a_known_clustering():
     with pytest.raises(ValueError, match="frames"):
         score(pred[:3], truth)
 
+
+
+def test_kunion_joins_down_to_the_number_of_places_it_is_given():
+    from placeclust.kunion import KAdjacentUnion
+    from placeclust.synthetic import places
+
+    frames, truth = places(6, n_places=3)
+    free = KAdjacentUnion(window=3).fit_predict(frames)
+    assert len(np.unique(free)) == 3 and precision(free, truth) == 1.0
+    assert len(np.unique(KAdjacentUnion(window=3, n_clusters=1).fit_predict(frames))) == 1
+    # more places asked than scene changes found: the scene changes' k stands
+    assert len(np.unique(KAdjacentUnion(window=3, n_clusters=9).fit_predict(frames))) == 3
+    with pytest.raises(ValueError, match="n_clusters"):
+        KAdjacentUnion(n_clusters=0)

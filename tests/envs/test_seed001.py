@@ -1,0 +1,45 @@
+import json
+
+import pytest
+
+from envs import seed001
+
+
+@pytest.fixture(scope="module")
+def row():
+    return seed001.run_scene(1000, n_rooms=2, steps_per_room=40, seed=0)
+
+
+def test_tables_2_and_3_count_the_key_frames_of_the_mapping_drive(row):
+    m = row["map"]
+    table = row["table2"]
+    assert sum(r["key_frames"] for r in table.values()) == m["key_frames"] > 0
+    assert sum(r["images"] for r in table.values()) == 80
+    assert sum(r["locations"] for r in table.values()) <= m["locations"]
+    correct = sum(r["correct"] for r in table.values())
+    assert correct / m["key_frames"] == pytest.approx(m["matching_rate"])
+    for name in ("AC", "TP", "P"):
+        assert 0.0 <= m[name] <= 1.0
+
+
+def test_the_second_drive_and_seed_000_are_scored_on_the_same_building(row):
+    assert 0.0 <= row["relocalization"]["rate"] <= 1.0
+    assert 0.0 <= row["relocalization"]["unknown"] <= 1.0
+    assert row["online"]["places"] >= 1
+    assert 0.0 <= row["why"]["looks_elsewhere"] <= 1.0
+
+
+def test_summary_reports_mean_and_worst_beside_the_paper(row):
+    other = json.loads(json.dumps(row))
+    other["map"]["matching_rate"] = 0.25
+    summary = seed001.summarize([row, other])
+    mean, worst = summary["matching_rate"]
+    assert worst == 0.25 and mean == pytest.approx((row["map"]["matching_rate"] + 0.25) / 2)
+    report = seed001.format_report(summary, "test")
+    assert "0.938 / 0.902" in report and "| matching rate" in report
+
+
+def test_a_bad_param_is_one_line_of_error(capsys):
+    assert seed001.main(["--scene-seeds", "1000", "--param", "min_matchez=3"]) == 2
+    err = capsys.readouterr().err
+    assert err.startswith("error:") and "min_matchez" in err and err.count("\n") == 1
