@@ -30,7 +30,8 @@ def _median_ms(model: OnlinePlaceClustering, frames: list[np.ndarray], from_here
     of the rest, the recognizer's own work (each frame's whole minus its own detection), in ms.
 
     ``from_here``: each frame starts from the graph and place the model has now (the edge a
-    loop closure adds is taken back).
+    loop closure adds is taken back). A frame that opened or merged a place is kept whole:
+    taking back only its graph would leave a kernel without a node.
     """
     extractor = model._extractor
     detection: list[float] = []
@@ -46,10 +47,11 @@ def _median_ms(model: OnlinePlaceClustering, frames: list[np.ndarray], from_here
     try:
         for f in frames:
             graph, current = (model.graph.copy(), model.current) if from_here else (None, None)
+            places = (len(model.kernels), len(model.merged))
             start = time.perf_counter()
             model.learn_predict_one(f)
             times.append(time.perf_counter() - start)
-            if from_here:
+            if from_here and places == (len(model.kernels), len(model.merged)):
                 model.graph, model.current = graph, current
     finally:
         del extractor.extract_pair

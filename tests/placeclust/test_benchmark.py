@@ -22,6 +22,16 @@ def test_a_loop_closure_probe_leaves_the_graph_and_place_as_they_were():
     assert model.graph.has_edge(2, 0) and model.current == 0
 
 
+def test_a_probe_that_opens_a_place_keeps_the_map_consistent():
+    model = OnlinePlaceClustering(features="orb")
+    for seed in (1, 2, 3):
+        model.learn_one(textured(seed))
+    _median_ms(model, [textured(99)], from_here=True)  # matches nothing: a new place
+    assert set(model.graph.nodes) == set(model.kernels) == {0, 1, 2, 3}
+    model.learn_one(textured(1))  # a loop closure from the new place
+    assert all("n_images" in data for _, data in model.graph.nodes(data=True))
+
+
 def test_best_of_sweeps_gives_the_lowest_and_highest_median_per_size():
     rows = best_of_sweeps("orb", [3, 5], repeats=2)
     assert [r["places"] for r in rows] == [3, 5]
