@@ -31,6 +31,9 @@ PANORAMA_TOURS := --algos online --features sift --conditions day --scenes 0 1 2
 # PANORAMA with SIFT and ORB on 24 tours of a split's first 4 scenes: 4, 8, 12 rooms x 2 tour seeds
 SPLIT_TOURS := --preset panorama --algos online --features sift orb --conditions day \
 	--rooms 4 8 12 --tour-seeds 0 1 --steps-per-room 150 --latency-sizes
+# PANORAMA_ORB on the same 24 tours of a split
+ORB_TOURS := --preset panorama-orb --algos online --features orb --conditions day --rooms 4 8 12 \
+	--tour-seeds 0 1 --steps-per-room 150 --latency-sizes
 # the offline baselines given as many places as rooms, or as the online recognizer opened
 MATCHED := --algos kmeans wpgma kunion --conditions day --latency-sizes
 benchmarks: $(VENV)/.installed
@@ -43,6 +46,8 @@ benchmarks: $(VENV)/.installed
 	$(VENV)/bin/placeclust bench --quick $(MATCHED) --param n_clusters=online --out runs/matched-online $(DOCS)
 	$(VENV)/bin/placeclust bench $(SPLIT_TOURS) --split test --out runs/panorama-test $(DOCS)
 	$(VENV)/bin/placeclust bench $(SPLIT_TOURS) --split train --out runs/panorama-train $(DOCS)
+	$(VENV)/bin/placeclust bench $(ORB_TOURS) --split test --out runs/panorama-orb-test $(DOCS)
+	$(VENV)/bin/placeclust bench $(ORB_TOURS) --split train --out runs/panorama-orb-train $(DOCS)
 	$(VENV)/bin/placeclust bench --preset panorama --algos online --features sift --conditions day \
 		--rooms 4 8 12 --tour-seeds 0 1 --steps-per-room 250 --latency-sizes --split test \
 		--out runs/panorama-test-250 $(DOCS)
@@ -93,7 +98,7 @@ leaderboard: $(VENV)/.installed
 		--out runs/leaderboard
 
 # reproduces assets/policies/errands/ppo_errands.zip, the learned errand agent
-# seed 001 on its paper's camera: Tables 2-3 and a second drive, 4 test buildings (~7 min)
+# seed 001 on its paper's camera: Tables 2-3 and a second drive, 4 test buildings (~3 min)
 seed001: $(VENV)/.installed
 	$(PY) -m envs.seed001 --split test --rooms 6 --workers 2
 

@@ -16,8 +16,8 @@ Per building, :func:`run_scene`:
    :data:`envs.changes.CONDITIONS`) and relocalizes it on the first drive's map, fixed
    (:meth:`~placeclust.nested.NestedMapper.localize_one`): a key frame is correct when its
    location's label is its room; no location counts as wrong;
-3. runs seed 000's online recognizer (library defaults) on the same frames, scored on the same
-   key frames, so the two seeds are compared on one camera;
+3. runs seed 000's online recognizer (library defaults) on the same drives, scored on the
+   nested mapper's key frames of each, so the two seeds are compared on the same frames;
 4. measures why the locations fall where they do: the share of each key frame's view taken by
    the robot's own room (:mod:`envs.visibility`), and the matches with the best location at the
    key frames where the room changes, against the ``min_matches`` that would open a location.
@@ -34,10 +34,6 @@ from pathlib import Path
 from typing import Any
 
 import numpy as np
-
-# The paper's figures: Table 2 (right, left camera) and Table 3 (means over its 8 categories).
-PAPER = {"matching_rate": (0.938, 0.902), "locations_per_room": (35 / 7, 26 / 7),
-         "AC": 0.968, "TP": 0.77, "P": 0.76}
 
 
 def map_drive(frames: np.ndarray, params: dict[str, Any]) -> tuple[Any, np.ndarray, dict]:
@@ -59,26 +55,29 @@ def map_drive(frames: np.ndarray, params: dict[str, Any]) -> tuple[Any, np.ndarr
     return model, labels, {"key": key, "matches": matches}
 
 
-def relocalize(model: Any, frames: np.ndarray, rooms: np.ndarray, labels: dict[int, int]
-               ) -> dict[str, float]:
+def relocalize(model: Any, frames: np.ndarray, rooms: np.ndarray, labels: dict[int, int],
+               key: np.ndarray | None = None) -> tuple[dict[str, float], np.ndarray]:
     """The share of a second drive's key frames localized in a location labelled with their room.
 
     Args:
         model: a mapped recognizer with ``localize_one`` and ``reset_position``.
         frames, rooms: the second drive.
         labels: location -> the room it was labelled with on the first drive.
+        key: the frames to score; by default the model's own key frames
+            (``last_was_keyframe``), or every frame for a model without them.
 
     Returns:
-        ``rate`` (correct key frames) and ``unknown`` (key frames given no location).
+        ``rate`` (correct key frames) and ``unknown`` (key frames given no location), and the
+        key-frame mask that was scored.
     """
     model.reset_position()
-    pred, key = np.empty(len(frames), np.int64), np.ones(len(frames), bool)
+    pred, own = np.empty(len(frames), np.int64), np.ones(len(frames), bool)
     for t, frame in enumerate(frames):
         pred[t] = model.localize_one(frame)
-        key[t] = getattr(model, "last_was_keyframe", True)
-    pred, rooms = pred[key], rooms[key]
-    correct = [labels.get(int(p), -1) == r for p, r in zip(pred, rooms)]
-    return {"rate": float(np.mean(correct)), "unknown": float(np.mean(pred < 0))}
+        own[t] = getattr(model, "last_was_keyframe", True)
+    key = own if key is None else key
+    correct = [labels.get(int(p), -1) == r for p, r in zip(pred[key], rooms[key])]
+    return {"rate": float(np.mean(correct)), "unknown": float(np.mean(pred[key] < 0))}, key
 
 
 def _median(values: np.ndarray) -> float:
@@ -132,8 +131,13 @@ def run_scene(scene_seed: int, n_rooms: int = 6, steps_per_room: int = 150, seed
     model, labels, facts = map_drive(drive.frames, params or {})
     key, rooms = facts["key"], drive.room
     scores = score(labels[key], rooms[key])
+    relocated, again_key = relocalize(model, again.frames, again.room,
+                                      place_to_room(labels[key], rooms[key]))
     online = run("online", drive.frames)
     online_scores = score(online.assignments[key], rooms[key])
+    online_relocated, _ = relocalize(online.model, again.frames, again.room,
+                                     place_to_room(online.assignments[key], rooms[key]),
+                                     again_key)
     return {
         "scene_seed": scene_seed, "rooms": int(len(np.unique(rooms))),
         "map": {"matching_rate": scores["precision"], "AC": scores["mean_AC"],
@@ -141,13 +145,10 @@ def run_scene(scene_seed: int, n_rooms: int = 6, steps_per_room: int = 150, seed
                 "locations": model.n_places, "key_frames": int(key.sum()),
                 "views": sum(len(loc.views) for loc in model.locations.values())},
         "table2": table2(model, labels, rooms, key, [r.kind for r in plan.rooms]),
-        "relocalization": relocalize(model, again.frames, again.room,
-                                     place_to_room(labels[key], rooms[key])),
+        "relocalization": relocated,
         "online": {"matching_rate": online_scores["precision"], "nmi": online_scores["nmi"],
                    "places": online.model.n_places,
-                   **{f"relocalization_{k}": v for k, v in relocalize(
-                       online.model, again.frames, again.room,
-                       place_to_room(online.assignments[key], rooms[key])).items()}},
+                   **{f"relocalization_{k}": v for k, v in online_relocated.items()}},
         "why": why(facts, rooms, own_room_share(plan, drive.pose[key], rooms[key]),
                    model.min_matches),
     }

@@ -10,6 +10,7 @@ from placeclust.allocator import keep_frame_buffers
 keep_frame_buffers()
 
 from placeclust.online import PANORAMA, PRESETS, UNKNOWN, OnlinePlaceClustering  # noqa: E402
+from placeclust.presets import PANORAMA_ORB  # noqa: E402
 
-__all__ = ["PANORAMA", "PRESETS", "UNKNOWN", "OnlinePlaceClustering"]
+__all__ = ["PANORAMA", "PANORAMA_ORB", "PRESETS", "UNKNOWN", "OnlinePlaceClustering"]
 __version__ = "0.11.0"

@@ -211,13 +211,10 @@ class NestedMapper:
             >>> [mapper.localize_one(f) for f in frames[::-1]][::4], mapper.n_places
             ([1, 0], 2)
         """
-        gray = to_gray(frame)
-        self.frame_shape = check_size(gray, self.frame_shape)
-        self.last_was_keyframe = self._is_keyframe(gray)
-        if not self.last_was_keyframe:
+        key = self._key_frame(frame)
+        if key is None:
             return self.current[0]
-        self._last_key = gray
-        desc = self._describe(gray)
+        desc = key[1]
         if len(desc) < 2 or not self.locations:
             self.current, self.last_matches = (UNKNOWN, UNKNOWN), 0
             return UNKNOWN
@@ -248,13 +245,10 @@ class NestedMapper:
         Raises:
             ValueError: ``frame`` is not a valid image or differs in size from earlier frames.
         """
-        gray = to_gray(frame)
-        self.frame_shape = check_size(gray, self.frame_shape)
-        self.last_was_keyframe = self._is_keyframe(gray)
-        if not self.last_was_keyframe:
+        key = self._key_frame(frame)
+        if key is None:
             return self.current
-        self._last_key = gray
-        desc = self._describe(gray)
+        gray, desc = key
         if len(desc) < 2:  # featureless (a blank wall, a black frame): nothing to recognise
             return UNKNOWN, UNKNOWN
         loc = self._locate(desc)
@@ -263,6 +257,16 @@ class NestedMapper:
         return self.current
 
     # -- global level ---------------------------------------------------------------------------
+
+    def _key_frame(self, frame: np.ndarray) -> tuple[np.ndarray, np.ndarray] | None:
+        """``(grey image, descriptors)`` when ``frame`` is a key frame (Sec. 4.2), else None."""
+        gray = to_gray(frame)
+        self.frame_shape = check_size(gray, self.frame_shape)
+        self.last_was_keyframe = self._is_keyframe(gray)
+        if not self.last_was_keyframe:
+            return None
+        self._last_key = gray
+        return gray, self._describe(gray)
 
     def _is_keyframe(self, gray: np.ndarray) -> bool:
         if self._last_key is None:

@@ -42,7 +42,22 @@ PANORAMA: Mapping[str, object] = MappingProxyType(
     {"view": "sides", "kernel_capacity": 600, "scene_change": 0.25, "scale": 0.75,
      "consolidate": 0.85})
 
+#: :data:`PANORAMA` with two thresholds set for ORB's binary descriptors:
+#: ``OnlinePlaceClustering("orb", **PANORAMA_ORB)``; on the CLI, ``--preset panorama-orb
+#: --features orb``. The gate's threshold is a share of matched features and ``t_new_cluster``
+#: a distance, and both run in other ranges for ORB than for SIFT: with :data:`PANORAMA`'s
+#: values ORB opens 5.6 places per room on ``test``, and a lower gate (fewer scene changes
+#: inside rooms, so fewer frames that may open a place) removes most of them. Chosen on the
+#: ``val`` split (24 tours, 150 frames per room; the ORB bar is precision
+#: >= 0.93 and at most 3 places per room): a gate at 0.15 / 0.12 / 0.11 / 0.10 gave 4.0 / 3.2 /
+#: 2.9 / 2.5 places per room (worst precision 0.96 / 0.96 / 0.92 / 0.75); at 0.12,
+#: ``t_new_cluster`` 0.85 / 0.92 / 0.94 met the bar on 8 / 21 / 23 of 24 tours
+#: (``docs/benchmarks.md``). With SIFT these values would merge rooms: keep :data:`PANORAMA`.
+PANORAMA_ORB: Mapping[str, object] = MappingProxyType(
+    {**PANORAMA, "scene_change": 0.12, "t_new_cluster": 0.94})
+
 #: Named configurations of :class:`OnlinePlaceClustering` (the CLI's ``--preset``): ``paper``
-#: is seed 000's recognizer with the library's defaults, ``panorama`` is :data:`PANORAMA`.
+#: is seed 000's recognizer with the library's defaults, ``panorama`` is :data:`PANORAMA` and
+#: ``panorama-orb`` :data:`PANORAMA_ORB`.
 PRESETS: Mapping[str, Mapping[str, object]] = MappingProxyType(
-    {"paper": MappingProxyType({}), "panorama": PANORAMA})
+    {"paper": MappingProxyType({}), "panorama": PANORAMA, "panorama-orb": PANORAMA_ORB})

@@ -117,6 +117,8 @@ def test_presets_name_configurations_and_params_override_them(tmp_path, two_plac
     assert preset["scene_seed"] == 2001 and preset["split"] == "test"
     assert cluster("c", "--preset", "panorama", "--param", "scale=1.0")["params"]["scale"] == 1.0
     assert cluster("d")["params"] == {}  # paper: the library defaults
+    orb = cluster("e", "--preset", "panorama-orb")["params"]
+    assert orb == {**preset["params"], "scene_change": 0.12, "t_new_cluster": 0.94}
 
 
 def test_a_preset_the_algorithm_cannot_take_is_one_line_of_error(tmp_path, two_places, capsys):

@@ -1,5 +1,6 @@
 import json
 
+import numpy as np
 import pytest
 
 from envs import seed001
@@ -43,3 +44,26 @@ def test_a_bad_param_is_one_line_of_error(capsys):
     assert seed001.main(["--scene-seeds", "1000", "--param", "min_matchez=3"]) == 2
     err = capsys.readouterr().err
     assert err.startswith("error:") and "min_matchez" in err and err.count("\n") == 1
+
+
+class _Fixed:
+    """Answers the places it is given, one per frame; no key frames of its own."""
+
+    def __init__(self, answers):
+        self.answers = iter(answers)
+
+    def reset_position(self):
+        pass
+
+    def localize_one(self, frame):
+        return next(self.answers)
+
+
+def test_relocalization_scores_the_key_frames_it_is_given():
+    frames, rooms = np.zeros((4, 8, 8), np.uint8), np.array([0, 0, 1, 1])
+    labels = {5: 0, 6: 1}
+    scores, key = seed001.relocalize(_Fixed([5, 6, 6, -1]), frames, rooms, labels)
+    assert key.all() and scores == {"rate": 0.5, "unknown": 0.25}
+    only = np.array([True, False, True, False])
+    scores, key = seed001.relocalize(_Fixed([5, 6, 6, -1]), frames, rooms, labels, only)
+    assert key is only and scores == {"rate": 1.0, "unknown": 0.0}

@@ -4,7 +4,7 @@ import networkx as nx
 import numpy as np
 import pytest
 
-from placeclust import PANORAMA
+from placeclust import PANORAMA, PANORAMA_ORB
 from placeclust.baselines import KMeansPlaces, WPGMAPlaces
 from placeclust.checks import check_recognizer
 from placeclust.kunion import KAdjacentUnion
@@ -19,14 +19,15 @@ FAST = {"max_features": 100, "n_words": 100}  # the bag-of-words baselines' exam
     (OnlinePlaceClustering, {}),
     (OnlinePlaceClustering, {"features": "orb"}),
     (OnlinePlaceClustering, dict(PANORAMA)),
+    (OnlinePlaceClustering, {"features": "orb", **PANORAMA_ORB}),
     (NestedMapper, {}),
     (KAdjacentUnion, {"window": 2}),
     (KMeansPlaces, {"n_clusters": 2, **FAST}),
     (WPGMAPlaces, {"n_clusters": 2, **FAST}),
     (StreamPlaces, {}),
     (StreamPlaces, {"clusterer": "streamkmeans", "n_clusters": 2}),
-], ids=["online", "online-orb", "online-panorama", "nested", "kunion", "kmeans", "wpgma",
-        "dbstream", "streamkmeans"])
+], ids=["online", "online-orb", "online-panorama", "online-panorama-orb", "nested", "kunion",
+        "kmeans", "wpgma", "dbstream", "streamkmeans"])
 def test_every_built_in_recognizer_passes(cls, params):
     check_recognizer(cls, params)
 
