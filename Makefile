@@ -57,6 +57,9 @@ benchmarks: $(VENV)/.installed
 	$(PY) -m placeclust.benchmark latency $(DOCS)
 	$(PY) -m placeclust.benchmark latency --param consolidate=0.85 --section latency-consolidate \
 		$(DOCS)
+	$(PY) -m placeclust.benchmark latency --features orb --param view=sides \
+		--param kernel_capacity=600 --param scene_change=0.12 --param scale=0.75 \
+		--param consolidate=0.85 --param t_new_cluster=0.94 --section latency-panorama-orb $(DOCS)
 	$(PY) -m envs.benchmark $(DOCS)
 	$(PY) -m train.evaluate --agent all --episodes 50 --seed 1000 $(DOCS)
 	$(PY) -m train.evaluate --agent all --episodes 50 --seed 1000 $(DOCS) \

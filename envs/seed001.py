@@ -284,9 +284,15 @@ def main(argv: list[str] | None = None) -> int:
     except ValueError as e:
         print(f"error: {e}", file=sys.stderr)
         return 2
+    if args.steps_per_room < 1:
+        p.error(f"--steps-per-room must be positive, got {args.steps_per_room}")
     jobs = [(s, args.rooms, args.steps_per_room, args.seed, args.second, params) for s in seeds]
-    rows = sorted((row for _, row in run_all(_job, jobs, args.workers)),
-                  key=lambda r: r["scene_seed"])
+    try:
+        rows = sorted((row for _, row in run_all(_job, jobs, args.workers)),
+                      key=lambda r: r["scene_seed"])
+    except ValueError as e:  # a building the simulator refuses (e.g. --rooms 0)
+        print(f"error: {e}", file=sys.stderr)
+        return 2
     scope = (f"Split {args.split or 'none'}, scene seeds {', '.join(map(str, seeds))}, "
              f"{args.rooms} rooms, {args.steps_per_room} frames per room, tour seed {args.seed}, "
              f"second drive {args.second}, nested mapper {params or 'with the paper parameters'}")

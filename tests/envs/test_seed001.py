@@ -40,10 +40,14 @@ def test_summary_reports_mean_and_worst_beside_the_paper(row):
     assert "0.938 / 0.902" in report and "| matching rate" in report
 
 
-def test_a_bad_param_is_one_line_of_error(capsys):
-    assert seed001.main(["--scene-seeds", "1000", "--param", "min_matchez=3"]) == 2
+@pytest.mark.parametrize("args, named", [
+    (["--param", "min_matchez=3"], "min_matchez"),
+    (["--rooms", "0"], "n_rooms"),
+])
+def test_bad_input_is_one_line_of_error(capsys, args, named):
+    assert seed001.main(["--scene-seeds", "1000", *args]) == 2
     err = capsys.readouterr().err
-    assert err.startswith("error:") and "min_matchez" in err and err.count("\n") == 1
+    assert err.startswith("error:") and named in err and err.count("\n") == 1
 
 
 class _Fixed:
