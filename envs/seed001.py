@@ -70,12 +70,11 @@ def relocalize(model: Any, frames: np.ndarray, rooms: np.ndarray, labels: dict[i
         ``rate`` (correct key frames) and ``unknown`` (key frames given no location), and the
         key-frame mask that was scored.
     """
+    from placeclust.runner import localize
+
     model.reset_position()
-    pred, own = np.empty(len(frames), np.int64), np.ones(len(frames), bool)
-    for t, frame in enumerate(frames):
-        pred[t] = model.localize_one(frame)
-        own[t] = getattr(model, "last_was_keyframe", True)
-    key = own if key is None else key
+    result = localize(model, frames)
+    pred, key = result.assignments, result.localized if key is None else key
     correct = [labels.get(int(p), -1) == r for p, r in zip(pred[key], rooms[key])]
     return {"rate": float(np.mean(correct)), "unknown": float(np.mean(pred[key] < 0))}, key
 
@@ -85,15 +84,21 @@ def _median(values: np.ndarray) -> float:
 
 
 def table2(model: Any, labels: np.ndarray, rooms: np.ndarray, key: np.ndarray,
-           kinds: list[str]) -> dict[str, dict[str, int]]:
+           label: dict[int, int], kinds: list[str]) -> dict[str, dict[str, int]]:
     """Table 2 of the paper for one drive: per room kind, images, key frames, locations, views
     and correctly matched key frames.
 
     A location counts for the kind of the room it is labelled with (its key frames' majority).
-    """
-    from placeclust.metrics import place_to_room
 
-    label = place_to_room(labels[key], rooms[key])
+    Args:
+        model: the mapper, for its locations' views.
+        labels: its location of every frame.
+        rooms: the room of every frame.
+        key: the key frames.
+        label: location -> the room it stands for (:func:`~placeclust.metrics.place_to_room`
+            of the key frames).
+        kinds: the kind of every room of the building.
+    """
     out: dict[str, dict[str, int]] = {}
     for room in np.unique(rooms).tolist():
         row = out.setdefault(kinds[room], dict.fromkeys(
@@ -130,9 +135,8 @@ def run_scene(scene_seed: int, n_rooms: int = 6, steps_per_room: int = 150, seed
                            **CONDITIONS[second])
     model, labels, facts = map_drive(drive.frames, params or {})
     key, rooms = facts["key"], drive.room
-    scores = score(labels[key], rooms[key])
-    relocated, again_key = relocalize(model, again.frames, again.room,
-                                      place_to_room(labels[key], rooms[key]))
+    scores, label = score(labels[key], rooms[key]), place_to_room(labels[key], rooms[key])
+    relocated, again_key = relocalize(model, again.frames, again.room, label)
     online = run("online", drive.frames)
     online_scores = score(online.assignments[key], rooms[key])
     online_relocated, _ = relocalize(online.model, again.frames, again.room,
@@ -144,7 +148,7 @@ def run_scene(scene_seed: int, n_rooms: int = 6, steps_per_room: int = 150, seed
                 "TP": scores["mean_TP"], "P": scores["mean_P"], "nmi": scores["nmi"],
                 "locations": model.n_places, "key_frames": int(key.sum()),
                 "views": sum(len(loc.views) for loc in model.locations.values())},
-        "table2": table2(model, labels, rooms, key, [r.kind for r in plan.rooms]),
+        "table2": table2(model, labels, rooms, key, label, [r.kind for r in plan.rooms]),
         "relocalization": relocated,
         "online": {"matching_rate": online_scores["precision"], "nmi": online_scores["nmi"],
                    "places": online.model.n_places,
