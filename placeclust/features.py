@@ -29,6 +29,8 @@ import cv2
 import numpy as np
 
 FEATURES = ("sift", "kaze", "surf", "orb", "akaze")
+#: the feature types with binary descriptors (Hamming distance); the others are float (L2)
+BINARY = ("orb", "akaze")
 NORMALIZE = (None, "equalize", "clahe")
 #: ``"full"``: the whole frame (any camera). ``"sides"``: for 360° panoramas whose centre column
 #: looks along the robot's heading (the convention of ``envs.panorama``), the keypoints within
@@ -129,7 +131,7 @@ class FeatureExtractor:
         self.name = name
         self.max_features = max_features
         self.scale = scale
-        self.binary = name in ("orb", "akaze")
+        self.binary = name in BINARY
         self._cv = None
         if name == "sift":
             self._cv = cv2.SIFT_create(nfeatures=max_features)

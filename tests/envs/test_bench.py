@@ -185,6 +185,8 @@ def test_summary_reports_the_worst_run_and_the_share_meeting_the_bar() -> None:
     assert "| 0.963 (0.930) |" in line  # precision: mean (worst)
     assert "| 1.92 (2.25) |" in line  # places per room: mean (most)
     assert "| 1/3 |" in line  # only the first run meets all three bars
+    orb = [{**r, "features": "orb"} for r in (row(0.99, 0.5, 12), row(0.93, 0.5, 13))]
+    assert "| 1/2 |" in summary_table(orb).splitlines()[2]  # ORB's bar: 3 places per room
 
 
 @pytest.mark.parametrize("k", ["rooms", "online"])
