@@ -181,11 +181,12 @@ def why(facts: dict[str, np.ndarray], rooms: np.ndarray, share: np.ndarray, min_
 
 def summarize(rows: list[dict[str, Any]]) -> dict[str, Any]:
     """Mean and worst building of each figure, and Table 2 summed over the buildings."""
-    def figure(part: str, name: str, worst=min) -> tuple[float, float]:
-        values = [r[part][name] for r in rows]
+    def spread(values: list[float], worst=min) -> tuple[float, float]:
         return float(np.mean(values)), float(worst(values))
 
-    per_room = [r["map"]["locations"] / r["rooms"] for r in rows]
+    def figure(part: str, name: str, worst=min) -> tuple[float, float]:
+        return spread([r[part][name] for r in rows], worst)
+
     kinds: dict[str, dict[str, int]] = {}
     for r in rows:
         for kind, row in r["table2"].items():
@@ -195,17 +196,15 @@ def summarize(rows: list[dict[str, Any]]) -> dict[str, Any]:
     return {
         "buildings": len(rows),
         "matching_rate": figure("map", "matching_rate"),
-        "locations_per_room": (float(np.mean(per_room)), float(max(per_room))),
+        "locations_per_room": spread([r["map"]["locations"] / r["rooms"] for r in rows], max),
         **{k: figure("map", k) for k in ("AC", "TP", "P", "nmi")},
-        "views_per_key_frame": (
-            float(np.mean([r["map"]["views"] / r["map"]["key_frames"] for r in rows])),
-            float(max(r["map"]["views"] / r["map"]["key_frames"] for r in rows))),
+        "views_per_key_frame": spread(
+            [r["map"]["views"] / r["map"]["key_frames"] for r in rows], max),
         "relocalization": figure("relocalization", "rate"),
         "relocalization_unknown": figure("relocalization", "unknown", max),
         "online_matching_rate": figure("online", "matching_rate"),
-        "online_places_per_room": (
-            float(np.mean([r["online"]["places"] / r["rooms"] for r in rows])),
-            float(max(r["online"]["places"] / r["rooms"] for r in rows))),
+        "online_places_per_room": spread(
+            [r["online"]["places"] / r["rooms"] for r in rows], max),
         "online_relocalization": figure("online", "relocalization_rate"),
         "looks_elsewhere": figure("why", "looks_elsewhere", max),
         "matches_at_room_change": figure("why", "matches_at_room_change"),
