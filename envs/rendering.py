@@ -23,6 +23,7 @@ import mujoco
 import numpy as np
 
 from .panorama import PanoramaGeometry
+from .scene import CORE_GROUP
 
 _HIDDEN_GROUP = 5  # MjvOption.geomgroup[5] is off: geoms moved here are not drawn
 
@@ -88,6 +89,7 @@ class SceneRenderer:
         self._scene = mujoco.MjvScene(model, maxgeom=max(1000, 2 * model.ngeom))
         self._option = mujoco.MjvOption()
         self._option.geomgroup[_HIDDEN_GROUP] = 0
+        self._option.geomgroup[CORE_GROUP] = 0  # hidden by the linings; caps stand in at doors
         # the robot's own rangefinder rays and sites are sensors, not scenery: a camera must not
         # see them (nor draw them: each of the 17 tiny site spheres is hundreds of triangles)
         self._option.flags[mujoco.mjtVisFlag.mjVIS_RANGEFINDER] = 0

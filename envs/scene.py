@@ -1,7 +1,11 @@
 """Builds a MuJoCo world from a :class:`~envs.layout.FloorPlan` with ``mujoco.MjSpec``.
 
-Walls are visible grey collision boxes; each room lines its side of every wall with a thin,
-non-colliding textured plane, so the two faces of one wall show the two rooms' textures. Posters
+Walls are grey collision boxes; each room lines its side of every wall with a thin,
+non-colliding textured plane, so the two faces of one wall show the two rooms' textures. The
+robot's cameras never see a box's long faces (the linings hide them) nor its top (the cameras are
+below it), so they skip the boxes (geom group :data:`CORE_GROUP`) and draw only a small grey cap
+where a wall ends at a doorway: the same pixels wherever the robot does not touch a wall, for
+less rasterization (``python -m envs.benchmark``). Posters
 hang in front of the linings, furniture stands along the walls, and the robot of
 ``assets/robot.xml`` is attached at the origin with ``n_cameras`` cameras on its mast.
 
@@ -23,6 +27,8 @@ from .layout import WALL_THICKNESS, FloorPlan, Room, Wall, generate_floor_plan
 from .robot import MAX_RANGE, N_RANGES, RADIUS
 
 WALL_HEIGHT = 2.2
+#: geom group of the walls' collision boxes: drawn in the top-down view, not by the robot's cameras
+CORE_GROUP = 2
 CAMERA_HEIGHT = 1.0
 LIGHTING = ("day", "cloudy", "night")
 #: building generators: ``grid`` rooms of random sizes (:mod:`envs.layout`), ``corridor``
@@ -186,10 +192,33 @@ def _add_walls(spec: mujoco.MjSpec, plan: FloorPlan, rng: np.random.Generator) -
         size = [half_len, half_t, WALL_HEIGHT / 2] if w.axis == "x" else [
             half_t, half_len, WALL_HEIGHT / 2]
         spec.worldbody.add_geom(name=f"wall{i}", type=mujoco.mjtGeom.mjGEOM_BOX, size=size,
-                                pos=[cx, cy, WALL_HEIGHT / 2], material=grey)
+                                pos=[cx, cy, WALL_HEIGHT / 2], material=grey, group=CORE_GROUP)
+        for k, end in enumerate(_door_ends(w, plan.walls)):
+            _add_jamb(spec, end, f"jamb{i}_{k}", grey)
         for side, room_id in enumerate(w.sides):
             if room_id >= 0:
                 _line_wall(spec, plan.rooms[room_id], w, side, i, wall_mats[room_id], rng)
+
+
+def _add_jamb(spec: mujoco.MjSpec, end: tuple[float, float], name: str, material: str) -> None:
+    """The last wall thickness of a wall's box where it ends at a doorway: the part the linings
+    leave visible (its end face and the edges of its long faces), as a visual-only cube."""
+    half_t = WALL_THICKNESS / 2
+    spec.worldbody.add_geom(
+        name=name, type=mujoco.mjtGeom.mjGEOM_BOX, material=material,
+        size=[half_t, half_t, WALL_HEIGHT / 2], pos=[*end, WALL_HEIGHT / 2],
+        contype=0, conaffinity=0,
+    )
+
+
+def _door_ends(w: Wall, walls: list[Wall]) -> list[tuple[float, float]]:
+    """The ends of ``w``'s centre line that meet no other wall: the jambs of its doorways."""
+    def touches(x: float, y: float, o: Wall) -> bool:
+        return (min(o.x0, o.x1) - 1e-6 <= x <= max(o.x0, o.x1) + 1e-6
+                and min(o.y0, o.y1) - 1e-6 <= y <= max(o.y0, o.y1) + 1e-6)
+
+    return [(x, y) for x, y in ((w.x0, w.y0), (w.x1, w.y1))
+            if not any(touches(x, y, o) for o in walls if o is not w)]
 
 
 def _line_wall(spec: mujoco.MjSpec, room: Room, w: Wall, side: int, wall_index: int,
