@@ -31,7 +31,7 @@ import gymnasium as gym
 import numpy as np
 from gymnasium import spaces
 
-from placeclust import PANORAMA, OnlinePlaceClustering
+from placeclust import PANORAMA, PANORAMA_ORB, OnlinePlaceClustering
 from placeclust.metrics import score
 from placeclust.nested import NestedMapper
 from placeclust.null import NoPlaces, RandomPlaces
@@ -42,8 +42,9 @@ from .reach_room import door_distances, walking_distance
 from .tour import tour_steps
 
 #: recognizers by name: ``oracle`` gives the true room (the upper bound), ``online`` seed 000's
-#: recognizer in its 360° configuration (SIFT), ``online-orb`` the same with ORB, ``nested``
-#: seed 001 on the forward camera, ``random`` ids that mean nothing, ``none`` no ids at all
+#: recognizer in its 360° configuration (``PANORAMA``, SIFT), ``online-orb`` in ORB's
+#: (``PANORAMA_ORB``), ``nested`` seed 001 on the forward camera, ``random`` ids that mean
+#: nothing, ``none`` no ids at all
 RECOGNIZERS = ("oracle", "online", "online-orb", "nested", "random", "none")
 NAME_CHARSET = frozenset(string.ascii_lowercase + string.digits + " -_")
 
@@ -52,9 +53,10 @@ def make_recognizer(name: str, n_rooms: int, max_places: int = 64) -> object | N
     """A fresh recognizer of :data:`RECOGNIZERS` (``None`` for ``oracle``, the true rooms)."""
     if name == "oracle":
         return None
-    if name in ("online", "online-orb"):
-        features = "sift" if name == "online" else "orb"
-        return OnlinePlaceClustering(features, **PANORAMA, max_places=max_places)
+    if name == "online":
+        return OnlinePlaceClustering("sift", **PANORAMA, max_places=max_places)
+    if name == "online-orb":
+        return OnlinePlaceClustering("orb", **PANORAMA_ORB, max_places=max_places)
     if name == "nested":
         return NestedMapper()
     if name == "random":
