@@ -14,6 +14,7 @@ from __future__ import annotations
 import argparse
 import functools
 import os
+import resource
 import shlex
 import sys
 import time
@@ -24,6 +25,8 @@ import mujoco
 import numpy as np
 
 from placeclust.docs_section import write_section
+
+from .vector import make_vector_env
 
 SIZES = ((512, 128), (256, 64))
 ENV_ID = f"{__package__}:PlaceNav-v0"  # spawned workers import this package by its own name
@@ -48,24 +51,37 @@ _FLOOR_XML = """
 """
 
 
-def _seconds(run: Callable[[], None], n: int) -> float:
-    """Mean seconds of one of ``n`` calls of ``run``."""
-    start = time.perf_counter()
+def _cpu_seconds() -> float:
+    """CPU time of this process, all its threads (llvmpipe's rasterizers among them)."""
+    usage = resource.getrusage(resource.RUSAGE_SELF)
+    return usage.ru_utime + usage.ru_stime
+
+
+def _seconds(run: Callable[[], None], n: int) -> tuple[float, float]:
+    """Mean wall and CPU seconds of one of ``n`` calls of ``run``."""
+    wall, cpu = time.perf_counter(), _cpu_seconds()
     for _ in range(n):
         run()
-    return (time.perf_counter() - start) / n
+    return (time.perf_counter() - wall) / n, (_cpu_seconds() - cpu) / n
 
 
-def _interleaved(runs: dict[str, Callable[[], None]], n: int, rounds: int) -> dict[str, float]:
-    """Median over ``rounds`` of each run's mean time per call, the runs taken in turn each
-    round, so that the machine's drift falls on all of them alike."""
+def _interleaved(runs: dict[str, Callable[[], None]], n: int, rounds: int
+                 ) -> dict[str, np.ndarray]:
+    """Each run's (wall, CPU) seconds per call, one row per round: the runs are taken in turn
+    each round, so that the machine's drift falls on all of them alike and a ratio of two runs
+    is best taken round by round."""
     for run in runs.values():  # warm up shader variants and caches
         _seconds(run, 20)
-    times: dict[str, list[float]] = {name: [] for name in runs}
+    times: dict[str, list[tuple[float, float]]] = {name: [] for name in runs}
     for _ in range(rounds):
         for name, run in runs.items():
             times[name].append(_seconds(run, n))
-    return {name: float(np.median(t)) for name, t in times.items()}
+    return {name: np.array(t) for name, t in times.items()}
+
+
+def ratio(times: dict[str, np.ndarray], num: str, den: str) -> float:
+    """Median over rounds of ``num``'s wall time over ``den``'s."""
+    return float(np.median(times[num][:, 0] / times[den][:, 0]))
 
 
 def _floor_scene(width: int, height: int) -> tuple[mujoco.MjModel, mujoco.MjData]:
@@ -82,16 +98,17 @@ def _stepper(env: gym.Env, seed: int = 0) -> Callable[[], None]:
     return lambda: env.step(env.action_space.sample())
 
 
-def size_timings(width: int, height: int, steps: int, rounds: int = 5, n_rooms: int = 4
-                 ) -> dict[str, float]:
-    """Seconds per call of the floor, the physics alone and ``env.step`` at one panorama size.
+def size_timings(width: int, height: int, steps: int, rounds: int = 5, n_rooms: int = 4,
+                 scene_seed: int = 0) -> dict[str, np.ndarray]:
+    """Seconds per call (rows: rounds; columns: wall, CPU) of the floor, the physics alone and
+    ``env.step`` at one panorama size.
 
     The floor is a bare render and read-back of ``width`` x ``height`` pixels of a trivial
     textured scene; the physics is ``env.step`` with ``panorama=False``.
     """
     model, data = _floor_scene(width, height)
     kwargs = {"panorama_width": width, "panorama_height": height, "n_rooms": n_rooms,
-              "max_episode_steps": None}
+              "scene_seed": scene_seed, "max_episode_steps": None}
     env = gym.make("PlaceNav-v0", **kwargs)
     blind = gym.make("PlaceNav-v0", **kwargs, panorama=False)
     with mujoco.Renderer(model, height, width) as renderer:
@@ -107,55 +124,75 @@ def size_timings(width: int, height: int, steps: int, rounds: int = 5, n_rooms: 
             blind.close()
 
 
-def vector_speedup(width: int, height: int, steps: int, workers: int = 2, rounds: int = 3,
-                   n_rooms: int = 4) -> float:
+def vector_speedups(width: int, height: int, steps: int, workers: int = 2, rounds: int = 3,
+                    n_rooms: int = 4) -> dict[str, float]:
     """Env steps per second of ``workers`` spawned ``AsyncVectorEnv`` workers over one process
-    (one env stepped in this process), measured in turn."""
-    make = functools.partial(gym.make, ENV_ID, panorama_width=width, panorama_height=height,
-                             n_rooms=n_rooms, max_episode_steps=None)
+    (one env stepped in this process), measured in turn: workers with the default threads, and
+    single-threaded ones (:func:`envs.vector.make_vector_env`)."""
+    kwargs = {"panorama_width": width, "panorama_height": height, "n_rooms": n_rooms,
+              "max_episode_steps": None}
+    make = functools.partial(gym.make, ENV_ID, **kwargs)
     env = make()
-    vec = gym.vector.AsyncVectorEnv([make] * workers, context="spawn")
+    vecs = {"default threads": gym.vector.AsyncVectorEnv([make] * workers, context="spawn"),
+            "single-threaded": make_vector_env(workers, **kwargs)}
     try:
-        vec.reset(seed=0)
-        vec.action_space.seed(0)
-        t = _interleaved({"one": _stepper(env),
-                          "vec": lambda: vec.step(vec.action_space.sample())}, steps, rounds)
+        runs = {"one": _stepper(env)}
+        for name, vec in vecs.items():
+            vec.reset(seed=0)
+            vec.action_space.seed(0)
+            runs[name] = functools.partial(lambda v: v.step(v.action_space.sample()), vec)
+        t = _interleaved(runs, steps, rounds)
     finally:
-        vec.close()
+        for vec in vecs.values():
+            vec.close()
         env.close()
-    return t["one"] * workers / t["vec"]
+    return {name: workers * ratio(t, "one", name) for name in vecs}
+
+
+#: (width, height, rooms) of the rows: the two sizes of the issue in the default world, and a
+#: building three times as large, where culling matters most
+ROWS = ((512, 128, 4), (256, 64, 4), (512, 128, 12))
 
 
 def main(argv: list[str] | None = None) -> None:
     parser = argparse.ArgumentParser(prog="python -m envs.benchmark", description=__doc__,
                                      formatter_class=argparse.RawDescriptionHelpFormatter)
-    parser.add_argument("--steps", type=int, default=200, help="calls per timing, 5 rounds")
-    parser.add_argument("--rooms", type=int, default=4)
+    parser.add_argument("--steps", type=int, default=100, help="calls per timing and round")
+    parser.add_argument("--rounds", type=int, default=15, help="rounds of the three timings")
     parser.add_argument("--workers", type=int, default=2, help="AsyncVectorEnv workers")
     parser.add_argument("--docs", metavar="FILE", help="also write the table into FILE's "
                         "'simulator' section (docs/benchmarks.md)")
     argv = sys.argv[1:] if argv is None else list(argv)
     args = parser.parse_args(argv)
-    if args.steps < 1 or args.workers < 1:
-        parser.error("--steps and --workers must be positive")
-    lines = [f"PlaceNav-v0, scene 0, {args.rooms} rooms, random actions, one process; "
-             f"medians over 5 rounds of {args.steps} calls, the three timings taken in turn. "
-             "*Floor*: a bare `mujoco.Renderer` render and read-back of a trivial textured "
-             "scene with the panorama's pixels; *physics*: `env.step` with `panorama=False`.",
-             "", "| panorama | floor ms | physics ms | env.step ms | env.step / floor | steps/s |",
-             "|---|---|---|---|---|---|"]
+    if args.steps < 1 or args.workers < 1 or args.rounds < 1:
+        parser.error("--steps, --rounds and --workers must be positive")
+    lines = [f"PlaceNav-v0, scene 0, random actions, one process; medians over {args.rounds} "
+             f"rounds of {args.steps} calls, the three timings taken in turn and the ratio taken "
+             "round by round. *Floor*: a bare `mujoco.Renderer` render and read-back of a "
+             "trivial textured scene with the panorama's pixels; *physics*: `env.step` with "
+             "`panorama=False`; *cores*: CPU time over wall time of `env.step` (all threads).",
+             "", "| panorama | rooms | floor ms | physics ms | env.step ms | env.step / floor "
+             "| cores | steps/s |", "|---|---|---|---|---|---|---|---|"]
     print("\n".join(lines), flush=True)
-    for w, h in SIZES:
-        t = size_timings(w, h, args.steps, n_rooms=args.rooms)
-        lines.append(f"| {w}x{h} | {1e3 * t['floor']:.2f} | {1e3 * t['physics']:.2f} | "
-                     f"{1e3 * t['step']:.2f} | **{t['step'] / t['floor']:.1f}x** | "
-                     f"{1 / t['step']:.0f} |")
+    cores = []
+    for w, h, rooms in ROWS:
+        t = size_timings(w, h, args.steps, args.rounds, n_rooms=rooms)
+        step = np.median(t["step"], axis=0)
+        cores.append(step[1] / step[0])
+        lines.append(f"| {w}x{h} | {rooms} | {1e3 * np.median(t['floor'][:, 0]):.2f} | "
+                     f"{1e3 * np.median(t['physics'][:, 0]):.2f} | {1e3 * step[0]:.2f} | "
+                     f"**{ratio(t, 'step', 'floor'):.2f}x** | {cores[-1]:.2f} | "
+                     f"{1 / step[0]:.0f} |")
         print(lines[-1], flush=True)
-    w, h = SIZES[0]
-    speedup = vector_speedup(w, h, args.steps, args.workers, n_rooms=args.rooms)
-    lines += ["", f"`AsyncVectorEnv` with {args.workers} spawned workers at {w}x{h}: "
-              f"**{speedup:.2f}x** the env steps per second of one process "
-              f"({os.cpu_count()} CPUs; measured in turn, 3 rounds)."]
+    w, h, rooms = ROWS[0]
+    speedup = vector_speedups(w, h, args.steps, args.workers, n_rooms=rooms)
+    lines += ["", f"`AsyncVectorEnv` with {args.workers} spawned workers at {w}x{h}, in env "
+              f"steps per second over one process: **{speedup['single-threaded']:.2f}x** with "
+              f"single-threaded workers (`envs.vector.make_vector_env`), "
+              f"{speedup['default threads']:.2f}x with the default threads ({os.cpu_count()} "
+              f"CPUs; measured in turn, 3 rounds). One process already keeps {cores[0]:.2f} "
+              f"cores busy, so {args.workers} workers can give at most "
+              f"{min(args.workers, os.cpu_count() or 1) / cores[0]:.2f}x here."]
     print(lines[-1], flush=True)
     if args.docs:
         write_section(args.docs, "simulator", "\n".join(lines),

@@ -99,7 +99,10 @@ class PlaceNavEnv(gym.Env, gym.utils.EzPickle):
     (``gymnasium.utils.EzPickle``): the copy is a fresh env, to be reset before use.
 
     ## Version History
-    - v0: first version.
+    - v0: first version. Since placeclust 0.12.0 the near clipping plane lies 5 cm from the
+      cameras (it was 1% of the building's extent, which cut away a wall the robot stood next
+      to in large buildings) and box faces are drawn as one quad: frames differ from 0.11.0's
+      in about 13 pixels by one grey level.
     """
 
     metadata = {"render_modes": ["rgb_array"], "render_fps": 10}
@@ -200,7 +203,8 @@ class PlaceNavEnv(gym.Env, gym.utils.EzPickle):
     @property
     def renderer(self) -> SceneRenderer:
         if self._renderer is None:  # created lazily: vector-env workers build their own
-            self._renderer = SceneRenderer(self.model, self.scene.camera_names, self.geometry)
+            self._renderer = SceneRenderer(self.model, self.scene.camera_names, self.geometry,
+                                           plan=self.plan, geom_rooms=self.scene.geom_rooms)
         return self._renderer
 
     def reset(

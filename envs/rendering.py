@@ -1,13 +1,16 @@
 """Offscreen, headless rendering: the OpenGL context, the panorama and the top-down view.
 
-All cameras of the ring are drawn into one offscreen framebuffer side by side, read back with a
-single ``mjr_readPixels`` and unwrapped with precomputed ``cv2.remap`` tables.
+All cameras of the ring are drawn into one offscreen framebuffer side by side, read back at once
+and unwrapped with precomputed ``cv2.remap`` tables. Pixels are read and remapped as RGBA, the
+framebuffer's own layout, and the alpha dropped last: Mesa copies RGBA rows as they are but
+converts RGB pixel by pixel, and OpenCV remaps four channels in half the time of three.
 
-In Mesa's software renderer each drawn geom costs ~5 µs of CPU whatever its size on screen, so
-each camera draws only the static geoms whose bounding sphere meets its view frustum: before each
-camera's scene update, the others are moved to a hidden geom group (``mjv_updateScene`` reads
-``model.geom_group`` every call and costs ~2 µs). The test is conservative, so the picture is the
-same as without culling.
+In Mesa's software renderer every drawn geom costs CPU and rasterization whether or not it ends
+up on screen, so each camera draws only the static geoms whose bounding sphere meets its view
+frustum, planes that face it and, given the floor plan, what the doorways leave in view
+(:mod:`envs.portals`): before each camera's scene update, the others are moved to a hidden geom
+group (``mjv_updateScene`` reads ``model.geom_group`` every call and costs ~2 µs). The tests are
+conservative, so the picture is the same as without culling (``tests/envs/test_rendering.py``).
 
 ``MUJOCO_GL`` must be set before ``mujoco`` is first imported; :mod:`envs` sets it to ``egl``
 unless the user chose a backend.
@@ -22,7 +25,9 @@ import cv2
 import mujoco
 import numpy as np
 
+from .layout import FloorPlan
 from .panorama import PanoramaGeometry
+from .portals import PortalCuller, box_corners
 from .scene import CORE_GROUP
 
 _HIDDEN_GROUP = 5  # MjvOption.geomgroup[5] is off: geoms moved here are not drawn
@@ -41,6 +46,17 @@ def gl_context(width: int, height: int) -> mujoco.GLContext:
             "libgl1-mesa-dri) and import envs before mujoco."
         ) from exc
     return ctx
+
+
+def _read_rgba(ctx: mujoco.MjrContext, out: np.ndarray) -> np.ndarray:
+    """Read the offscreen framebuffer's lower-left ``out.shape[:2]`` pixels into the RGBA
+    uint8 array ``out`` (bottom row first), as ``mjr_readPixels`` reads RGB."""
+    from OpenGL import GL  # PyOpenGL comes with mujoco
+
+    GL.glBindFramebuffer(GL.GL_READ_FRAMEBUFFER, ctx.offFBO)
+    GL.glReadBuffer(GL.GL_COLOR_ATTACHMENT0)
+    GL.glReadPixels(0, 0, out.shape[1], out.shape[0], GL.GL_RGBA, GL.GL_UNSIGNED_BYTE, out)
+    return out
 
 
 def _cheaper_texture_filtering(ctx: mujoco.MjrContext) -> None:
@@ -64,6 +80,10 @@ class SceneRenderer:
         camera_names: the ring of cameras, in yaw order, as made by :mod:`envs.scene`.
         geometry: panorama size and remap tables; must match how the cameras were built.
         overview_size: (height, width) of :meth:`top_down` images.
+        plan, geom_rooms: the floor plan and the rooms of each geom (``Scene.geom_rooms``);
+            given both, the cameras skip the geoms that no doorway leaves in view.
+        cull: skip the geoms a camera cannot see (the default); ``False`` draws them all, the
+            same picture more slowly (the tests compare the two).
     """
 
     def __init__(
@@ -72,6 +92,9 @@ class SceneRenderer:
         camera_names: tuple[str, ...],
         geometry: PanoramaGeometry,
         overview_size: tuple[int, int] = (480, 480),
+        plan: FloorPlan | None = None,
+        geom_rooms: dict[str, tuple[int, ...]] | None = None,
+        cull: bool = True,
     ) -> None:
         if len(camera_names) != geometry.n_cameras:
             raise ValueError(f"{len(camera_names)} cameras for a {geometry.n_cameras}-camera ring")
@@ -100,12 +123,15 @@ class SceneRenderer:
         self._camera = mujoco.MjvCamera()
         self._camera.type = mujoco.mjtCamera.mjCAMERA_FIXED
         self._camera_ids = [model.camera(n).id for n in camera_names]
-        self._map_x, self._map_y = geometry.remap_tables()
-        self._init_culling()
-        self._strip = np.empty((strip_h, strip_w, 3), np.uint8)
+        # one interleaved float map: the same pixels as two planar ones, a third faster
+        self._map_xy = np.dstack(geometry.remap_tables())
+        self._culling = cull
+        self._init_culling(plan, geom_rooms)
+        self._strip = np.empty((strip_h, strip_w, 4), np.uint8)
         self._overview = np.empty((*overview_size, 3), np.uint8)
 
-    def _init_culling(self) -> None:
+    def _init_culling(self, plan: FloorPlan | None,
+                      geom_rooms: dict[str, tuple[int, ...]] | None) -> None:
         m, g = self.model, self.geometry
         data = mujoco.MjData(m)
         mujoco.mj_kinematics(m, data)
@@ -117,69 +143,95 @@ class SceneRenderer:
         self._cull = static & ~infinite
         self._centers = data.geom_xpos[self._cull].copy()
         self._radii = radius[self._cull]
+        # a plane seen from behind is drawn half transparent; here every plane lines a room or
+        # lies on its floor, so from behind it is hidden by the wall or jamb it backs onto
+        plane = m.geom_type[self._cull] == mujoco.mjtGeom.mjGEOM_PLANE
+        self._normals = np.where(plane[:, None],
+                                 data.geom_xmat[self._cull].reshape(-1, 3, 3)[:, :, 2], 0.0)
         self._groups = m.geom_group.copy()
         # the robot never sees itself: its body is below the cameras' field of view
         robot_root = m.body_rootid[m.cam_bodyid[self._camera_ids[0]]]
         self._robot_geoms = m.body_rootid[m.geom_bodyid] == robot_root
         f = g.focal
-        self._half_h = math.atan(g.cam_width / (2 * f))
-        self._half_v = math.atan(g.cam_height / (2 * f))
+        self._ring_half = (math.atan(g.cam_width / (2 * f)), math.atan(g.cam_height / (2 * f)))
+        self._portals = None
+        if plan is not None and geom_rooms is not None:
+            ids = np.flatnonzero(self._cull)
+            rooms = np.zeros((len(ids), len(plan.rooms)), bool)
+            index = {int(i): k for k, i in enumerate(ids)}
+            for name, owners in geom_rooms.items():
+                rooms[index[m.geom(name).id], list(owners)] = True
+            corners = box_corners(data.geom_xpos[ids], data.geom_xmat[ids], size[ids],
+                                  m.geom_type[ids] == mujoco.mjtGeom.mjGEOM_PLANE)
+            self._portals = PortalCuller(plan, corners, rooms)
 
-    def _visible(self, data: mujoco.MjData, cam_id: int) -> np.ndarray:
-        """Mask of the culled geoms whose bounding sphere meets camera ``cam_id``'s frustum."""
-        rel = self._centers - data.cam_xpos[cam_id]
-        axes = data.cam_xmat[cam_id].reshape(3, 3)  # columns: camera x (right), y (up), z (back)
-        right, up, fwd = rel @ axes[:, 0], rel @ axes[:, 1], -(rel @ axes[:, 2])
-        r = self._radii
-        sh, ch = math.sin(self._half_h), math.cos(self._half_h)
-        sv, cv = math.sin(self._half_v), math.cos(self._half_v)
-        return ((fwd * sh - right * ch >= -r) & (fwd * sh + right * ch >= -r)
-                & (fwd * sv - up * cv >= -r) & (fwd * sv + up * cv >= -r))
+    def _in_view(self, data: mujoco.MjData, cam_ids: list[int], half: tuple[float, float]
+                 ) -> np.ndarray:
+        """(cameras, culled geoms) bool: the geoms whose bounding sphere meets each camera's
+        frustum (horizontal and vertical half-angles ``half``), planes that face it, and that
+        the doorways leave in view of its position."""
+        if not self._culling:
+            return np.ones((len(cam_ids), len(self._centers)), bool)
+        rel = self._centers[None, :, :] - data.cam_xpos[cam_ids][:, None, :]
+        axes = data.cam_xmat[cam_ids].reshape(-1, 3, 3)  # columns: camera right, up, back
+        proj = rel @ axes  # (cameras, geoms, 3): each centre in its camera's frame
+        right, up, back = proj[..., 0], proj[..., 1], proj[..., 2]
+        r = self._radii[None, :]
+        sh, ch = math.sin(half[0]), math.cos(half[0])
+        sv, cv = math.sin(half[1]), math.cos(half[1])
+        seen = ((-back * sh - right * ch >= -r) & (-back * sh + right * ch >= -r)
+                & (-back * sv - up * cv >= -r) & (-back * sv + up * cv >= -r)
+                & (np.einsum("kgd,gd->kg", rel, self._normals) <= 0))  # planes facing the camera
+        if self._portals is not None:
+            walks: dict[tuple[float, float], np.ndarray] = {}  # the ring shares one mast
+            for k, cam_id in enumerate(cam_ids):
+                x, y = (float(v) for v in data.cam_xpos[cam_id, :2])
+                if (x, y) not in walks:
+                    walks[x, y] = self._portals.visible(x, y)
+                seen[k] &= walks[x, y]
+        return seen
+
+    def _scene_for(self, data: mujoco.MjData, camera: mujoco.MjvCamera, shown: np.ndarray
+                   ) -> None:
+        """Fill the scene as ``camera`` sees it: of the cullable geoms those marked in ``shown``,
+        and every other geom but the robot's own."""
+        groups = self._groups.copy()
+        groups[self._robot_geoms] = _HIDDEN_GROUP
+        groups[self._cull] = np.where(shown, self._groups[self._cull], _HIDDEN_GROUP)
+        self.model.geom_group[:] = groups
+        try:
+            mujoco.mjv_updateScene(self.model, data, self._option, self._perturb, camera,
+                                   mujoco.mjtCatBit.mjCAT_ALL, self._scene)
+        finally:
+            self.model.geom_group[:] = self._groups
 
     def panorama(self, data: mujoco.MjData) -> np.ndarray:
         """The (height, width, 3) uint8 panorama seen from the robot in ``data``."""
         self._gl.make_current()
-        g, m = self.geometry, self.model
-        groups = self._groups.copy()
-        groups[self._robot_geoms] = _HIDDEN_GROUP
-        try:
-            for k, cam_id in enumerate(self._camera_ids):
-                groups[self._cull] = np.where(self._visible(data, cam_id),
-                                              self._groups[self._cull], _HIDDEN_GROUP)
-                m.geom_group[:] = groups
-                self._camera.fixedcamid = cam_id
-                mujoco.mjv_updateScene(m, data, self._option, self._perturb, self._camera,
-                                       mujoco.mjtCatBit.mjCAT_ALL, self._scene)
-                rect = mujoco.MjrRect(k * g.cam_width, 0, g.cam_width, g.cam_height)
-                mujoco.mjr_render(rect, self._scene, self._ctx)
-        finally:
-            m.geom_group[:] = self._groups
-        full = mujoco.MjrRect(0, 0, g.cam_width * g.n_cameras, g.cam_height)
-        mujoco.mjr_readPixels(self._strip, None, full, self._ctx)
-        return cv2.remap(self._strip, self._map_x, self._map_y, cv2.INTER_LINEAR,
+        g = self.geometry
+        shown = self._in_view(data, self._camera_ids, self._ring_half)
+        for k, cam_id in enumerate(self._camera_ids):
+            self._camera.fixedcamid = cam_id
+            self._scene_for(data, self._camera, shown[k])
+            rect = mujoco.MjrRect(k * g.cam_width, 0, g.cam_width, g.cam_height)
+            mujoco.mjr_render(rect, self._scene, self._ctx)
+        pano = cv2.remap(_read_rgba(self._ctx, self._strip), self._map_xy, None, cv2.INTER_LINEAR,
                          borderMode=cv2.BORDER_REPLICATE)
+        return cv2.cvtColor(pano, cv2.COLOR_RGBA2RGB)
 
     def perspective(self, data: mujoco.MjData, camera: str, width: int, height: int
                     ) -> np.ndarray:
-        """The (height, width, 3) uint8 image of the model's camera ``camera`` (no culling)."""
+        """The (height, width, 3) uint8 image of the model's camera ``camera``."""
         self._gl.make_current()
-        m = self.model
-        groups = self._groups.copy()
-        groups[self._robot_geoms] = _HIDDEN_GROUP
         cam = mujoco.MjvCamera()
         cam.type = mujoco.mjtCamera.mjCAMERA_FIXED
-        cam.fixedcamid = m.camera(camera).id
-        image = np.empty((height, width, 3), np.uint8)
-        try:
-            m.geom_group[:] = groups
-            mujoco.mjv_updateScene(m, data, self._option, self._perturb, cam,
-                                   mujoco.mjtCatBit.mjCAT_ALL, self._scene)
-        finally:
-            m.geom_group[:] = self._groups
-        rect = mujoco.MjrRect(0, 0, width, height)
-        mujoco.mjr_render(rect, self._scene, self._ctx)
-        mujoco.mjr_readPixels(image, None, rect, self._ctx)
-        return np.ascontiguousarray(image[::-1])  # OpenGL reads the bottom row first
+        cam.fixedcamid = self.model.camera(camera).id
+        half_v = math.radians(self.model.cam_fovy[cam.fixedcamid]) / 2
+        half = (math.atan(math.tan(half_v) * width / height), half_v)
+        self._scene_for(data, cam, self._in_view(data, [cam.fixedcamid], half)[0])
+        mujoco.mjr_render(mujoco.MjrRect(0, 0, width, height), self._scene, self._ctx)
+        image = _read_rgba(self._ctx, np.empty((height, width, 4), np.uint8))
+        return cv2.cvtColor(image[::-1], cv2.COLOR_RGBA2RGB)  # OpenGL reads the bottom row first
 
     def top_down(self, data: mujoco.MjData, bounds: tuple[float, float, float, float]
                  ) -> np.ndarray:
@@ -213,6 +265,11 @@ class SceneRenderer:
     def close(self) -> None:
         """Free the GL resources; the renderer cannot be used afterwards."""
         if getattr(self, "_gl", None) is not None:
+            # MjrContext.free deletes its textures, lists and framebuffers by name in the
+            # *current* context: with another renderer's context current, it would delete that
+            # renderer's objects, which share the names, and that env would go on returning its
+            # last picture
+            self._gl.make_current()
             self._ctx.free()
             self._gl.free()
             self._gl = None

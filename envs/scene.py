@@ -30,6 +30,10 @@ WALL_HEIGHT = 2.2
 #: geom group of the walls' collision boxes: drawn in the top-down view, not by the robot's cameras
 CORE_GROUP = 2
 CAMERA_HEIGHT = 1.0
+#: metres from a camera to its near clipping plane. MuJoCo scales ``visual.map.znear`` by the
+#: model's extent, so a fixed fraction would clip walls the robot stands next to in large
+#: buildings (0.235 m in 12 rooms); nothing the robot can reach comes closer than its radius.
+NEAR_CLIP = 0.05
 LIGHTING = ("day", "cloudy", "night")
 #: building generators: ``grid`` rooms of random sizes (:mod:`envs.layout`), ``corridor``
 #: identical offices along a corridor (:mod:`envs.corridor`)
@@ -57,6 +61,9 @@ class Scene:
     model: mujoco.MjModel
     camera_names: tuple[str, ...]
     lighting: str
+    #: the rooms each drawn geom of the building belongs to, by geom name: the room it lines,
+    #: stands or lies in; a door jamb belongs to both sides of its wall (:mod:`envs.portals`)
+    geom_rooms: dict[str, tuple[int, ...]]
 
 
 def build_scene(
@@ -104,19 +111,24 @@ def build_scene(
     spec.option.timestep = 0.005
     # velocity actuators on light wheels are stiff: implicit damping keeps 5 ms steps stable
     spec.option.integrator = mujoco.mjtIntegrator.mjINT_IMPLICITFAST
-    _add_floor(spec, plan, rng)
-    _add_walls(spec, plan, rng)
+    rooms: dict[str, tuple[int, ...]] = {}
+    _add_floor(spec, plan, rng, rooms)
+    _add_walls(spec, plan, rng, rooms)
     swap_posters(spec, changes)
-    _add_furniture(spec, plan, rng)
+    _add_furniture(spec, plan, rng, rooms)
     cams = _add_robot(spec, n_cameras, camera_fovy, forward_fovy)
     model = spec.compile()
-    return Scene(plan, spec, model, cams, lighting)
+    model.vis.map.znear = NEAR_CLIP / model.stat.extent
+    return Scene(plan, spec, model, cams, lighting, rooms)
 
 
 def _setup_visual(spec: mujoco.MjSpec, plan: FloorPlan, lighting: str) -> None:
     q = spec.visual.quality
     q.shadowsize = 0  # shadows and multisampling cost ~20x in software GL
     q.offsamples = 0
+    # one quad per box face, not 16: a face's lighting is flat (directional lights, no
+    # specular), so only a few edge pixels change, for a tenth of the simulator's time
+    q.numquads = 1
     cond = _LIGHTS[lighting]
     hl = spec.visual.headlight
     hl.ambient = [cond["ambient"]] * 3
@@ -131,7 +143,7 @@ def _setup_visual(spec: mujoco.MjSpec, plan: FloorPlan, lighting: str) -> None:
         light.diffuse = list(color)
         light.specular = [0.0, 0.0, 0.0]
         light.castshadow = False
-    spec.visual.map.znear = 0.01
+
 
 
 def _texture(spec: mujoco.MjSpec, name: str, img: np.ndarray) -> str:
@@ -151,7 +163,8 @@ def _material(spec: mujoco.MjSpec, name: str, texture: str, repeat: tuple[float,
     return name
 
 
-def _add_floor(spec: mujoco.MjSpec, plan: FloorPlan, rng: np.random.Generator) -> None:
+def _add_floor(spec: mujoco.MjSpec, plan: FloorPlan, rng: np.random.Generator,
+               rooms: dict[str, tuple[int, ...]]) -> None:
     x0, y0, x1, y1 = plan.bounds
     spec.worldbody.add_geom(  # one collision plane; per-room visual floors sit on top of it
         name="ground", type=mujoco.mjtGeom.mjGEOM_PLANE, size=[0, 0, 1], group=3,
@@ -166,6 +179,7 @@ def _add_floor(spec: mujoco.MjSpec, plan: FloorPlan, rng: np.random.Generator) -
             size=[(room.x1 - room.x0) / 2, (room.y1 - room.y0) / 2, 1], pos=[cx, cy, 0.001],
             contype=0, conaffinity=0,
         )
+        rooms[f"floor{room.id}"] = (room.id,)
 
 
 def _frame_quat(x_axis: tuple[float, float, float]) -> list[float]:
@@ -178,7 +192,8 @@ def _frame_quat(x_axis: tuple[float, float, float]) -> list[float]:
     return quat.tolist()
 
 
-def _add_walls(spec: mujoco.MjSpec, plan: FloorPlan, rng: np.random.Generator) -> None:
+def _add_walls(spec: mujoco.MjSpec, plan: FloorPlan, rng: np.random.Generator,
+               rooms: dict[str, tuple[int, ...]]) -> None:
     grey = spec.add_material(name="wall_core", rgba=[0.55, 0.55, 0.55, 1]).name
     wall_mats = {}
     for room in plan.rooms:
@@ -195,9 +210,12 @@ def _add_walls(spec: mujoco.MjSpec, plan: FloorPlan, rng: np.random.Generator) -
                                 pos=[cx, cy, WALL_HEIGHT / 2], material=grey, group=CORE_GROUP)
         for k, end in enumerate(_door_ends(w, plan.walls)):
             _add_jamb(spec, end, f"jamb{i}_{k}", grey)
+            rooms[f"jamb{i}_{k}"] = tuple(r for r in w.sides if r >= 0)
         for side, room_id in enumerate(w.sides):
             if room_id >= 0:
-                _line_wall(spec, plan.rooms[room_id], w, side, i, wall_mats[room_id], rng)
+                for name in _line_wall(spec, plan.rooms[room_id], w, side, i,
+                                       wall_mats[room_id], rng):
+                    rooms[name] = (room_id,)
 
 
 def _add_jamb(spec: mujoco.MjSpec, end: tuple[float, float], name: str, material: str) -> None:
@@ -222,9 +240,9 @@ def _door_ends(w: Wall, walls: list[Wall]) -> list[tuple[float, float]]:
 
 
 def _line_wall(spec: mujoco.MjSpec, room: Room, w: Wall, side: int, wall_index: int,
-               material: str, rng: np.random.Generator) -> None:
-    """Texture ``room``'s face of wall ``w`` (side 0: the room is on the low side) and hang posters.
-    """
+               material: str, rng: np.random.Generator) -> list[str]:
+    """Texture ``room``'s face of wall ``w`` (side 0: the room is on the low side) and hang
+    posters; returns the names of the geoms added."""
     sign = -1.0 if side == 0 else 1.0  # the face normal points from the wall into the room
     offset = WALL_THICKNESS / 2 + 0.002
     if w.axis == "x":
@@ -236,8 +254,9 @@ def _line_wall(spec: mujoco.MjSpec, room: Room, w: Wall, side: int, wall_index: 
     cx, cy = (w.x0 + w.x1) / 2, (w.y0 + w.y1) / 2
     quat = _frame_quat(along)
     pos = [cx + normal[0] * offset, cy + normal[1] * offset, WALL_HEIGHT / 2]
+    names = [f"lining{wall_index}_{side}"]
     spec.worldbody.add_geom(
-        name=f"lining{wall_index}_{side}", type=mujoco.mjtGeom.mjGEOM_PLANE, material=material,
+        name=names[0], type=mujoco.mjtGeom.mjGEOM_PLANE, material=material,
         size=[w.length / 2, WALL_HEIGHT / 2, 1], pos=pos, quat=quat, contype=0, conaffinity=0,
     )
     n_posters = int(rng.integers(0, 2 + int(w.length // 2.5)))
@@ -251,15 +270,18 @@ def _line_wall(spec: mujoco.MjSpec, room: Room, w: Wall, side: int, wall_index: 
         mat = _material(spec, f"poster_mat{wall_index}_{side}_{k}", tex, (1, 1), False)
         height = width * 1.25
         z = float(rng.uniform(0.9, 1.5))
+        names.append(f"poster{wall_index}_{side}_{k}")
         spec.worldbody.add_geom(
-            name=f"poster{wall_index}_{side}_{k}", type=mujoco.mjtGeom.mjGEOM_PLANE,
+            name=names[-1], type=mujoco.mjtGeom.mjGEOM_PLANE,
             material=mat, size=[width / 2, height / 2, 1], quat=quat, contype=0, conaffinity=0,
             pos=[pos[0] + along[0] * t + normal[0] * 0.004,
                  pos[1] + along[1] * t + normal[1] * 0.004, z],
         )
+    return names
 
 
-def _add_furniture(spec: mujoco.MjSpec, plan: FloorPlan, rng: np.random.Generator) -> None:
+def _add_furniture(spec: mujoco.MjSpec, plan: FloorPlan, rng: np.random.Generator,
+                   rooms: dict[str, tuple[int, ...]]) -> None:
     for room in plan.rooms:
         tex = _texture(spec, f"furniture_tex{room.id}", textures.furniture_texture(rng))
         mat = _material(spec, f"furniture_mat{room.id}", tex, (1, 1), True)
@@ -268,6 +290,7 @@ def _add_furniture(spec: mujoco.MjSpec, plan: FloorPlan, rng: np.random.Generato
                 name=f"furniture{room.id}_{i}", type=mujoco.mjtGeom.mjGEOM_BOX, material=mat,
                 size=[f.hx, f.hy, f.height / 2], pos=[f.x, f.y, f.height / 2],
             )
+            rooms[f"furniture{room.id}_{i}"] = (room.id,)
 
 
 def _add_robot(spec: mujoco.MjSpec, n_cameras: int, fovy: float, forward_fovy: float

@@ -15,7 +15,6 @@ import argparse
 import contextlib
 import functools
 import json
-import os
 import shutil
 import sys
 import time
@@ -26,6 +25,7 @@ from typing import Any
 import yaml
 
 from envs.splits import check_split
+from envs.vector import single_threaded_workers
 from train.config import HYPERPARAMS, load_config
 from train.make import AGENTS, make_env
 from train.mapping import EDGES_FILE, MAP_FILE, build_map
@@ -117,27 +117,26 @@ def _map_record(map_path: Path | None, given: Path | None, map_cfg: dict[str, An
 
 @contextlib.contextmanager
 def _one_thread_each(enabled: bool) -> Iterator[None]:
-    """One thread for torch here and for OpenMP/OpenBLAS in workers spawned meanwhile.
+    """One thread for torch here, and single-threaded workers spawned meanwhile.
 
-    When the workers fill the cores, a multi-threaded torch in the learner, or OpenBLAS in a
-    worker, spins idle OpenMP threads that starve the others: with 2 workers on 2 cores the
-    place agent ran at 53-57 steps/s with the default threads, 72-75 with one each. A
-    ``OMP_NUM_THREADS`` the user set wins; both settings are restored afterwards.
+    When the workers fill the cores, a multi-threaded torch in the learner, or llvmpipe,
+    OpenCV, OpenMP or OpenBLAS threads in a worker, starve the others: with 2 workers on 2
+    cores the place agent ran at 53-57 steps/s with the default threads, 72-75 with one
+    OpenMP thread each (``envs.vector.single_threaded_workers`` sets the rest). Settings the
+    user made win; all are restored afterwards.
     """
     import torch
 
     if not enabled:
         yield
         return
-    threads, omp = torch.get_num_threads(), os.environ.get("OMP_NUM_THREADS")
+    threads = torch.get_num_threads()
     torch.set_num_threads(1)
-    os.environ.setdefault("OMP_NUM_THREADS", "1")
     try:
-        yield
+        with single_threaded_workers():
+            yield
     finally:
         torch.set_num_threads(threads)
-        if omp is None:
-            os.environ.pop("OMP_NUM_THREADS", None)
 
 
 def _versions() -> dict[str, str]:
