@@ -100,11 +100,11 @@ leaderboard: $(VENV)/.installed
 	$(PY) -m train.leaderboard --split test --rooms 6 --goals-per-scene 5 --seed 0 \
 		--out runs/leaderboard
 
-# reproduces assets/policies/errands/ppo_errands.zip, the learned errand agent
 # seed 001 on its paper's camera: Tables 2-3 and a second drive, 4 test buildings (~3 min)
 seed001: $(VENV)/.installed
 	$(PY) -m envs.seed001 --split test --rooms 6 --workers 2
 
+# reproduces assets/policies/errands/ppo_errands.zip, the learned errand agent
 train-errands: $(VENV)/.installed
 	$(PY) -m train.train --agent errands --config train/hyperparams/ppo_errands.yml \
 		--out runs/train/errands_s0

@@ -7,9 +7,10 @@ one to the other. Names attach to the place the recognizer reported when the gui
 errand is the repeat pass: the shortest path on the place graph from the current place to a
 place carrying the goal's name, each hop driven by replaying the nearest stretch of the tour
 that crossed it (forwards, or backwards when the tour crossed the other way), reached along
-the tour's own path through the current place. The recognizer decides where the goal is and
-which way to go; odometry only drives each hop, which ends when the recognizer reports the next
-place or the replayed stretch runs out. Two places the tour drove within ``OVERLAP`` of each
+the tour's own path through the current place (or along the whole tour's path where the place's
+own steps do not lead there). The recognizer decides where the goal is and which way to go;
+odometry only drives each hop, which ends when the recognizer reports the next place or the
+replayed stretch runs out. Two places the tour drove within ``OVERLAP`` of each
 other are neighbours (a room the recognizer split in two). With ids that mean nothing the graph
 means nothing, and the planner is lost; without ids (``UNKNOWN`` everywhere) it explores.
 
@@ -121,8 +122,11 @@ class TourPlanner:
         if obs["goal"] != self._goal:  # a new errand: nothing left behind yet
             self._goal, self._passed = str(obs["goal"]), deque(maxlen=PASSED)
         along = self._hop is not None and place == self._hop[1]
+        # believing itself at the goal while the errand goes on, the planner is wrong about
+        # where it is: any report is worth more than that belief, a place just left included
+        lost = self.place == self.names.get(self._goal, -1)
         if place not in (self.place, self.unknown) and place in self.graph \
-                and (along or place not in self._passed):
+                and (along or lost or place not in self._passed):
             # arriving where the hop led, the place left stays behind: a report of it (the
             # recognizer wavering at a boundary) must not turn the robot back
             if along:
@@ -231,18 +235,21 @@ class TourPlanner:
         return WaypointController([(x, y, 0.25) for x, y in points])
 
     def _approach(self, a: int, target: int) -> np.ndarray:
-        """Tour steps from the step of place a nearest the robot to ``target``, along the
-        roadmap of place a's steps: inside the place, the way the tour drove. Empty (drive
-        straight) when the place's steps do not lead there."""
+        """Tour steps from the robot to ``target``: along the roadmap of place a's steps from
+        the one nearest the robot (inside the place, the way the tour drove), or, where those
+        steps do not lead there (a place the recognizer spread over two rooms), along the whole
+        roadmap from the tour step nearest the robot. Never a straight line through walls."""
         inside = np.flatnonzero(self.places == a)
-        if inside.size == 0:
-            return np.zeros(0, np.int64)
-        start = int(inside[np.argmin(np.linalg.norm(self.path[inside] - self.pos, axis=1))])
-        try:
-            way = nx.shortest_path(self.roadmap.subgraph({*inside.tolist(), target}), start,
-                                   target, weight="weight")
-        except nx.NetworkXNoPath:
-            return np.zeros(0, np.int64)
+        if inside.size:
+            start = int(inside[np.argmin(np.linalg.norm(self.path[inside] - self.pos, axis=1))])
+            try:
+                way = nx.shortest_path(self.roadmap.subgraph({*inside.tolist(), target}), start,
+                                       target, weight="weight")
+                return np.array(way[:-1], np.int64)
+            except nx.NetworkXNoPath:
+                pass
+        start = int(np.argmin(np.linalg.norm(self.path - self.pos, axis=1)))
+        way = nx.shortest_path(self.roadmap, start, target, weight="weight")
         return np.array(way[:-1], np.int64)
 
     def _dead_reckon(self, obs: dict[str, np.ndarray]) -> None:

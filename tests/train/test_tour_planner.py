@@ -1,11 +1,13 @@
 import json
 import math
+from collections import deque
 
 import gymnasium as gym
 import numpy as np
 import pytest
 
 import envs  # noqa: F401
+from envs.guided_tour import TourRecord
 from envs.robot import MAX_RANGE, N_RANGES
 from train import evaluate
 from train.leaderboard import leaderboard, rank_agreement, run_jobs
@@ -72,6 +74,41 @@ def test_a_hop_replays_the_tour_where_it_crossed():
     assert t - 1 in stretch and t in stretch and np.all(np.diff(stretch) == 1)
     back = planner.stretches[(b, a)][0]  # the same crossing, driven the other way
     assert t - 1 in back and t in back and np.all(np.diff(back) == -1)
+
+
+def _u_tour() -> TourRecord:
+    """2 m east and 2 m back west, 3 m apart: place 0 on both legs, place 1 on the 3 m north
+    between them, so place 0's own steps do not join its two legs."""
+    heading = np.array([[1.0, 0.0]] * 20 + [[0.0, 1.0]] * 30 + [[-1.0, 0.0]] * 20, np.float32)
+    places = np.array([0] * 20 + [1] * 30 + [0] * 20)
+    heard = np.array([""] * 70, dtype=object)
+    heard[5], heard[35] = "east", "north"
+    return TourRecord(places, heard, np.tile(np.float32([0.5, 0.0]), (70, 1)), heading, 0.2)
+
+
+def _obs(place: int, goal: str) -> dict:
+    return {"place_id": np.int64(place), "goal": goal, "heading": np.float32([-1.0, 0.0]),
+            "odometry": np.zeros(2, np.float32), "ranges": np.full(N_RANGES, MAX_RANGE)}
+
+
+def test_the_approach_keeps_to_the_tour_where_the_place_does_not_lead():
+    planner = TourPlanner(unknown=64)
+    planner.reset(_u_tour(), _obs(0, ""))  # at the end of the west leg
+    way = planner._approach(0, 5)  # to the east leg: along the U, not across the gap
+    assert way[0] == 69 and np.all(np.diff(way) < 0)  # the tour's path, driven backwards
+    assert (planner.places[way] == 1).any()  # through the north leg
+    assert np.linalg.norm(np.diff(planner.path[way], axis=0), axis=1).max() < 1.5
+
+
+def test_a_planner_that_believes_it_arrived_trusts_the_next_report():
+    planner = TourPlanner(unknown=64)
+    planner.reset(_u_tour(), _obs(0, ""))
+    assert planner.names == {"east": 0, "north": 1}
+    planner.act(_obs(0, "east"))  # believed at the goal, yet the errand goes on
+    assert planner.exploring
+    planner._passed = deque([1])  # a place just left, whose reports are otherwise ignored
+    planner.act(_obs(1, "east"))
+    assert planner.place == 1 and not planner.exploring  # so it replans from the report
 
 
 def test_the_leaderboard_resumes_and_ranks(tmp_path):
