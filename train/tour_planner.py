@@ -238,7 +238,7 @@ class TourPlanner:
         """Tour steps from the robot to ``target``: along the roadmap of place a's steps from
         the one nearest the robot (inside the place, the way the tour drove), or, where those
         steps do not lead there (a place the recognizer spread over two rooms), along the whole
-        roadmap from the tour step nearest the robot. Never a straight line through walls."""
+        roadmap from the tour step nearest the robot, never straight across rooms."""
         inside = np.flatnonzero(self.places == a)
         if inside.size:
             start = int(inside[np.argmin(np.linalg.norm(self.path[inside] - self.pos, axis=1))])
