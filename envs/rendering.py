@@ -151,7 +151,9 @@ class SceneRenderer:
         self._groups = m.geom_group.copy()
         # the robot never sees itself: its body is below the cameras' field of view
         robot_root = m.body_rootid[m.cam_bodyid[self._camera_ids[0]]]
-        self._robot_geoms = m.body_rootid[m.geom_bodyid] == robot_root
+        robot_geoms = m.body_rootid[m.geom_bodyid] == robot_root
+        self._camera_groups = self._groups.copy()  # what every camera draws before culling
+        self._camera_groups[robot_geoms] = _HIDDEN_GROUP
         f = g.focal
         self._ring_half = (math.atan(g.cam_width / (2 * f)), math.atan(g.cam_height / (2 * f)))
         self._portals = None
@@ -195,8 +197,7 @@ class SceneRenderer:
                    ) -> None:
         """Fill the scene as ``camera`` sees it: of the cullable geoms those marked in ``shown``,
         and every other geom but the robot's own."""
-        groups = self._groups.copy()
-        groups[self._robot_geoms] = _HIDDEN_GROUP
+        groups = self._camera_groups.copy()
         groups[self._cull] = np.where(shown, self._groups[self._cull], _HIDDEN_GROUP)
         self.model.geom_group[:] = groups
         try:
