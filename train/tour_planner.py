@@ -241,16 +241,20 @@ class TourPlanner:
         roadmap from the tour step nearest the robot, never straight across rooms."""
         inside = np.flatnonzero(self.places == a)
         if inside.size:
-            start = int(inside[np.argmin(np.linalg.norm(self.path[inside] - self.pos, axis=1))])
+            start = self._nearest_step(inside)
             try:
                 way = nx.shortest_path(self.roadmap.subgraph({*inside.tolist(), target}), start,
                                        target, weight="weight")
                 return np.array(way[:-1], np.int64)
             except nx.NetworkXNoPath:
                 pass
-        start = int(np.argmin(np.linalg.norm(self.path - self.pos, axis=1)))
-        way = nx.shortest_path(self.roadmap, start, target, weight="weight")
+        way = nx.shortest_path(self.roadmap, self._nearest_step(np.arange(len(self.path))),
+                               target, weight="weight")
         return np.array(way[:-1], np.int64)
+
+    def _nearest_step(self, steps: np.ndarray) -> int:
+        """The one of tour ``steps`` whose dead-reckoned position is nearest the robot."""
+        return int(steps[np.argmin(np.linalg.norm(self.path[steps] - self.pos, axis=1))])
 
     def _dead_reckon(self, obs: dict[str, np.ndarray]) -> None:
         if self._at_reset:  # the tour's last row already counted this observation's motion
