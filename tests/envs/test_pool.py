@@ -1,3 +1,8 @@
+import subprocess
+import sys
+import time
+from pathlib import Path
+
 import pytest
 
 from envs.pool import run_all
@@ -13,3 +18,43 @@ def test_every_job_comes_back_with_its_result_in_process_and_pooled():
 def test_an_unknown_executor_is_named():
     with pytest.raises(ValueError, match="unknown executor 'dask'"):
         list(run_all(abs, [1], executor="dask"))
+
+
+def _children(pid: int) -> list[int]:
+    """Live processes whose parent is ``pid`` (Linux ``/proc``)."""
+    found = []
+    for stat in Path("/proc").glob("[0-9]*/stat"):
+        try:
+            fields = stat.read_text().rsplit(")", 1)[1].split()
+        except (OSError, IndexError):
+            continue  # it ended while being read
+        if int(fields[1]) == pid and fields[0] != "Z":
+            found.append(int(stat.parent.name))
+    return found
+
+
+def _alive(pid: int) -> bool:
+    try:
+        return Path(f"/proc/{pid}/stat").read_text().rsplit(")", 1)[1].split()[0] != "Z"
+    except OSError:
+        return False
+
+
+@pytest.mark.skipif(not sys.platform.startswith("linux"), reason="the kernel's parent-death signal")
+def test_pooled_workers_stop_when_the_benchmark_is_killed():
+    script = "import time; from envs.pool import run_all; list(run_all(time.sleep, [60, 60], 2))"
+    parent = subprocess.Popen([sys.executable, "-c", script],
+                              cwd=Path(__file__).resolve().parents[2])
+    try:
+        deadline = time.monotonic() + 60
+        while len(workers := _children(parent.pid)) < 3 and time.monotonic() < deadline:
+            time.sleep(0.2)  # two workers and multiprocessing's resource tracker
+        assert len(workers) >= 3, "the pool never started"
+        time.sleep(1.0)  # the workers have taken their minute-long jobs
+    finally:
+        parent.kill()
+        parent.wait()
+    deadline = time.monotonic() + 20
+    while any(map(_alive, workers)) and time.monotonic() < deadline:
+        time.sleep(0.2)
+    assert not any(map(_alive, workers))
