@@ -9,12 +9,14 @@ Every recognizer maps every building of the split from a guided tour, and the sa
 (:func:`train.unseen.run_scene`). The table puts task success beside the same maps' open-loop
 precision, NMI and places per room, and ``success_vs_nmi.png`` plots one against the other.
 Each (recognizer, building) is one job on a ``spawn`` process pool or Ray; its result is kept in
-``OUT/runs/``, so an interrupted run resumes where it stopped.
+``OUT/runs/``, so an interrupted run resumes where it stopped; a kept result is used again only
+if the agent that made it is the same (:func:`agent_fingerprint`).
 """
 
 from __future__ import annotations
 
 import argparse
+import hashlib
 import json
 import shlex
 import sys
@@ -28,10 +30,28 @@ from placeclust import __version__
 from placeclust.atomic import write_atomic
 from placeclust.docs_section import write_section
 from placeclust.progress import progress as progress_bar
-from train.unseen import AGENTS, run_scene, summarize
+from train.unseen import AGENTS, POLICY, run_scene, summarize
 
 #: the slow recognizers first, so the last job to finish is a short one
 COST = {"online": 0, "nested": 1, "online-orb": 2, "random": 3, "none": 4, "oracle": 5}
+#: the source files an agent's errands depend on, besides the placeclust version
+AGENT_SOURCES = ("train/unseen.py", "train/tour_planner.py", "train/planner.py",
+                 "train/errand_agent.py", "envs/tour.py")
+_ROOT = Path(__file__).resolve().parent.parent
+
+
+def agent_fingerprint(job: dict[str, Any]) -> str:
+    """A hash of what drives a job's agent: :data:`AGENT_SOURCES` and, for ``ppo``, the
+    policy file. A planner edited or a policy trained again within one version of placeclust
+    would otherwise be scored by the rows its predecessor left in ``OUT/runs/``."""
+    digest = hashlib.sha256()
+    for name in AGENT_SOURCES:
+        digest.update((_ROOT / name).read_bytes())
+    if job["agent"] == "ppo":
+        policy = Path(job.get("policy") or POLICY)
+        if policy.is_file():  # a missing one is reported by the job itself
+            digest.update(policy.read_bytes())
+    return digest.hexdigest()[:16]
 
 
 def job_key(job: dict[str, Any]) -> str:
@@ -54,7 +74,7 @@ def run_jobs(jobs: list[dict[str, Any]], out: Path | None = None, workers: int =
     """Run :func:`~train.unseen.run_scene` for each job (its keyword arguments); the rows.
 
     With ``out``, each row is kept in ``out/runs/<key>.json`` and a row already there from
-    this version of placeclust is not run again.
+    this version of placeclust and the same agent (:func:`agent_fingerprint`) is not run again.
     """
     store = None if out is None else Path(out) / "runs"
     done = {}
@@ -64,13 +84,14 @@ def run_jobs(jobs: list[dict[str, Any]], out: Path | None = None, workers: int =
             path = store / f"{job_key(job)}.json"
             if path.is_file():
                 row = json.loads(path.read_text())
-                if row.get("version") == __version__:
+                if (row.get("version"), row.get("agent_fingerprint")) == (
+                        __version__, agent_fingerprint(job)):
                     done[job_key(job)] = row
     todo = sorted((j for j in jobs if job_key(j) not in done),
                   key=lambda j: COST.get(j["recognizer"], 0))
     bar = progress_bar(total=len(todo), enabled=progress, desc="errands", unit="building")
     for job, row in run_all(_run_job, todo, workers, executor):
-        row["version"] = __version__
+        row["version"], row["agent_fingerprint"] = __version__, agent_fingerprint(job)
         done[job_key(job)] = row
         if store is not None:
             write_atomic(store / f"{job_key(job)}.json",

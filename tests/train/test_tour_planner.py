@@ -10,7 +10,8 @@ import envs  # noqa: F401
 from envs.guided_tour import TourRecord
 from envs.robot import MAX_RANGE, N_RANGES
 from train import evaluate
-from train.leaderboard import leaderboard, rank_agreement, run_jobs
+from train import leaderboard as leaderboard_module
+from train.leaderboard import agent_fingerprint, leaderboard, rank_agreement, run_jobs
 from train.tour_planner import TourPlanner, dead_reckon, guard
 from train.unseen import run_scene, summarize
 
@@ -126,6 +127,26 @@ def test_the_leaderboard_resumes_and_ranks(tmp_path):
     assert table.index("oracle") < table.index("random")
     fake = [{"success_rate": s, "nmi": n} for s, n in ((1, 1), (0.5, 0.6), (0.1, 0.2))]
     assert rank_agreement(fake) == pytest.approx(1.0)
+
+
+def test_the_leaderboard_runs_again_for_another_agent(tmp_path, monkeypatch):
+    jobs = [{"scene_seed": 0, "recognizer": "oracle", "goals": 1, "seed": 0, "agent": "planner",
+             "n_rooms": 3}]
+    run_jobs(jobs, tmp_path, progress=False)
+    (kept,) = (tmp_path / "runs").glob("*.json")
+    stamp = kept.stat().st_mtime_ns
+    monkeypatch.setattr(leaderboard_module, "agent_fingerprint", lambda job: "edited planner")
+    (row,) = run_jobs(jobs, tmp_path, progress=False)
+    assert kept.stat().st_mtime_ns != stamp and row["agent_fingerprint"] == "edited planner"
+
+
+def test_the_agent_fingerprint_follows_the_policy_file(tmp_path):
+    job = {"agent": "ppo", "policy": str(tmp_path / "a.zip")}
+    (tmp_path / "a.zip").write_bytes(b"one policy")
+    first = agent_fingerprint(job)
+    (tmp_path / "a.zip").write_bytes(b"the policy trained again")
+    assert agent_fingerprint(job) != first
+    assert agent_fingerprint({"agent": "planner"}) == agent_fingerprint({"agent": "planner"})
 
 
 def test_evaluate_unseen_writes_the_contracted_scores(tmp_path, capsys):
