@@ -77,6 +77,7 @@ def run_jobs(jobs: list[dict[str, Any]], out: Path | None = None, workers: int =
     this version of placeclust and the same agent (:func:`agent_fingerprint`) is not run again.
     """
     store = None if out is None else Path(out) / "runs"
+    agents = {job_key(job): agent_fingerprint(job) for job in jobs}
     done = {}
     if store is not None:
         store.mkdir(parents=True, exist_ok=True)
@@ -85,13 +86,13 @@ def run_jobs(jobs: list[dict[str, Any]], out: Path | None = None, workers: int =
             if path.is_file():
                 row = json.loads(path.read_text())
                 if (row.get("version"), row.get("agent_fingerprint")) == (
-                        __version__, agent_fingerprint(job)):
+                        __version__, agents[job_key(job)]):
                     done[job_key(job)] = row
     todo = sorted((j for j in jobs if job_key(j) not in done),
                   key=lambda j: COST.get(j["recognizer"], 0))
     bar = progress_bar(total=len(todo), enabled=progress, desc="errands", unit="building")
     for job, row in run_all(_run_job, todo, workers, executor):
-        row["version"], row["agent_fingerprint"] = __version__, agent_fingerprint(job)
+        row["version"], row["agent_fingerprint"] = __version__, agents[job_key(job)]
         done[job_key(job)] = row
         if store is not None:
             write_atomic(store / f"{job_key(job)}.json",
