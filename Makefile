@@ -21,6 +21,7 @@ demo: $(VENV)/.installed
 
 test: $(VENV)/.installed
 	$(PY) -m ruff check .
+	$(PY) -m mypy
 	$(PY) -m pytest -q
 
 # Regenerates every table of docs/benchmarks.md, one command after the other (never two timings
@@ -51,27 +52,27 @@ benchmarks: $(VENV)/.installed
 	$(VENV)/bin/placeclust bench --preset panorama --algos online --features sift --conditions day \
 		--rooms 4 8 12 --tour-seeds 0 1 --steps-per-room 250 --latency-sizes --split test \
 		--out runs/panorama-test-250 $(DOCS)
-	$(PY) -m envs.seed001 --split test --rooms 6 --workers 2 $(DOCS) --section seed001-test
-	$(PY) -m envs.seed001 --split test --rooms 6 --workers 2 --param min_matches=250 $(DOCS) \
+	$(VENV)/bin/placeclust seed001 --split test --rooms 6 --workers 2 $(DOCS) --section seed001-test
+	$(VENV)/bin/placeclust seed001 --split test --rooms 6 --workers 2 --param min_matches=250 $(DOCS) \
 		--section seed001-test-250
-	$(PY) -m placeclust.benchmark latency $(DOCS)
-	$(PY) -m placeclust.benchmark latency --param consolidate=0.85 --section latency-consolidate \
+	$(VENV)/bin/placeclust latency $(DOCS)
+	$(VENV)/bin/placeclust latency --param consolidate=0.85 --section latency-consolidate \
 		$(DOCS)
-	$(PY) -m placeclust.benchmark latency --features orb --param view=sides \
+	$(VENV)/bin/placeclust latency --features orb --param view=sides \
 		--param kernel_capacity=600 --param scene_change=0.12 --param scale=0.75 \
 		--param consolidate=0.85 --param t_new_cluster=0.94 --section latency-panorama-orb $(DOCS)
-	$(PY) -m envs.benchmark $(DOCS)
+	$(VENV)/bin/placeclust speed $(DOCS)
 	$(PY) -m train.evaluate --agent all --episodes 50 --seed 1000 $(DOCS)
 	$(PY) -m train.evaluate --agent all --episodes 50 --seed 1000 $(DOCS) \
 		--config train/hyperparams/ppo_proximity.yml --policies assets/policies/proximity
 	$(PY) -m train.evaluate --agent all --episodes 50 --seed 1000 $(DOCS) \
 		--config train/hyperparams/ppo_corridor.yml --policies assets/policies/corridor
-	$(PY) -m train.leaderboard --split test --rooms 6 --goals-per-scene 5 --seed 0 \
+	$(VENV)/bin/placeclust leaderboard --split test --rooms 6 --goals-per-scene 5 --seed 0 \
 		--out runs/leaderboard $(DOCS)
-	$(PY) -m train.leaderboard --split test --rooms 6 --goals-per-scene 5 --seed 0 \
-		--recognizers oracle online online-orb --agent ppo --out runs/leaderboard-ppo $(DOCS)
+	$(VENV)/bin/placeclust leaderboard --split test --rooms 6 --goals-per-scene 5 --seed 0 \
+		--recognizers oracle panorama panorama-orb --agent ppo --out runs/leaderboard-ppo $(DOCS)
 
-# the benchmark matrix (envs/bench.py): results.csv, results.md, precision.png, latency.png
+# the benchmark matrix (envs/commands/bench.py): results.csv, results.md, precision.png, latency.png
 bench-quick: $(VENV)/.installed
 	$(VENV)/bin/placeclust bench --quick
 
@@ -80,13 +81,13 @@ bench: $(VENV)/.installed
 
 # 20,000 steps in a 12-room world with the online recognizer in the loop
 bench-long: $(VENV)/.installed
-	$(PY) -m envs.longrun --steps 20000 --rooms 12
+	$(VENV)/bin/placeclust longrun --steps 20000 --rooms 12
 
 bench-env: $(VENV)/.installed
-	$(PY) -m envs.benchmark
+	$(VENV)/bin/placeclust speed
 
 bench-latency: $(VENV)/.installed
-	$(PY) -m placeclust.benchmark latency
+	$(VENV)/bin/placeclust latency
 
 # reproduces assets/policies/ppo_place.zip (the other agents: --agent noplace / oracle)
 train: $(VENV)/.installed
@@ -97,12 +98,12 @@ eval: $(VENV)/.installed
 
 # recognizers ranked by errand success after a guided tour of 8 test buildings (~20 minutes)
 leaderboard: $(VENV)/.installed
-	$(PY) -m train.leaderboard --split test --rooms 6 --goals-per-scene 5 --seed 0 \
+	$(VENV)/bin/placeclust leaderboard --split test --rooms 6 --goals-per-scene 5 --seed 0 \
 		--out runs/leaderboard
 
 # seed 001 on its paper's camera: Tables 2-3 and a second drive, 4 test buildings (~3 min)
 seed001: $(VENV)/.installed
-	$(PY) -m envs.seed001 --split test --rooms 6 --workers 2
+	$(VENV)/bin/placeclust seed001 --split test --rooms 6 --workers 2
 
 # reproduces assets/policies/errands/ppo_errands.zip, the learned errand agent
 train-errands: $(VENV)/.installed

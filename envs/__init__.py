@@ -28,16 +28,16 @@ if os.environ["MUJOCO_GL"] in ("egl", "osmesa"):
 
 from gymnasium.envs.registration import register, registry  # noqa: E402
 
-from .guided_tour import GuidedTourEnv  # noqa: E402
-from .place_id import PlaceIdWrapper  # noqa: E402
-from .place_nav import PlaceNavEnv  # noqa: E402
-from .reach_room import ReachRoomEnv  # noqa: E402
+from .tasks.guided_tour import GuidedTourEnv  # noqa: E402
+from .tasks.place_id import PlaceIdWrapper  # noqa: E402
+from .tasks.place_nav import PlaceNavEnv  # noqa: E402
+from .tasks.reach_room import ReachRoomEnv  # noqa: E402
 
 # One registration per id, whichever name (envs, placeclust_envs) imported the package first.
-for _id, _entry, _steps in (("PlaceNav-v0", "place_nav:PlaceNavEnv", 500),
-                            ("PlaceNav-ReachRoom-v0", "reach_room:ReachRoomEnv", 300),
+for _id, _entry, _steps in (("PlaceNav-v0", "tasks.place_nav:PlaceNavEnv", 500),
+                            ("PlaceNav-ReachRoom-v0", "tasks.reach_room:ReachRoomEnv", 300),
                             # errands bound the episode: no step limit of its own
-                            ("PlaceNav-GuidedTour-v0", "guided_tour:GuidedTourEnv", None)):
+                            ("PlaceNav-GuidedTour-v0", "tasks.guided_tour:GuidedTourEnv", None)):
     if _id not in registry:
         register(id=_id, entry_point=f"{__name__}.{_entry}", max_episode_steps=_steps)
 

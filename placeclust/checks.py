@@ -58,6 +58,8 @@ def learn(model: object, frames: np.ndarray) -> np.ndarray:
     """The places ``model`` gives ``frames``: online one at a time, offline all at once."""
     if hasattr(model, "learn_predict_one"):
         return np.array([int(model.learn_predict_one(f)) for f in frames])
+    assert hasattr(model, "fit_predict"), (  # check_recognizer checked that first
+        f"{type(model).__name__} has neither learn_predict_one nor fit_predict")
     return np.asarray(model.fit_predict(frames))
 
 

@@ -23,6 +23,7 @@ On 360° panoramas ``view="sides"`` keeps only the keypoints seen at the robot's
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass
 
 import cv2
@@ -33,12 +34,12 @@ FEATURES = ("sift", "kaze", "surf", "orb", "akaze")
 BINARY = ("orb", "akaze")
 NORMALIZE = (None, "equalize", "clahe")
 #: ``"full"``: the whole frame (any camera). ``"sides"``: for 360° panoramas whose centre column
-#: looks along the robot's heading (the convention of ``envs.panorama``), the keypoints within
-#: 45° of the robot's left and right (columns ``W/4 ± W/8`` and ``3W/4 ± W/8``), about half of
-#: them. A panorama sees the next room through a doorway before the robot reaches it and the
-#: last room after, so place boundaries fall anywhere near a door; a view to the side swaps
-#: rooms as the robot passes it. Kept after the ``max_features`` strongest of the whole frame
-#: are chosen.
+#: looks along the robot's heading (the convention of ``envs.world.panorama``), the keypoints
+#: within 45° of the robot's left and right (columns ``W/4 ± W/8`` and ``3W/4 ± W/8``), about
+#: half of them. A panorama sees the next room through a doorway before the robot reaches it
+#: and the last room after, so place boundaries fall anywhere near a door; a view to the side
+#: swaps rooms as the robot passes it. Kept after the ``max_features`` strongest of the whole
+#: frame are chosen.
 VIEWS = ("full", "sides")
 
 
@@ -62,7 +63,7 @@ def _sides(feats: Features, width: int) -> Features:
                     feats.binary)
 
 
-def _cv2_factory(name: str):
+def _cv2_factory(name: str) -> Callable[..., cv2.Feature2D]:
     contrib = getattr(cv2, "xfeatures2d", None)
     for module in (cv2, contrib):
         fn = getattr(module, f"{name}_create", None) if module is not None else None
@@ -132,11 +133,11 @@ class FeatureExtractor:
         self.max_features = max_features
         self.scale = scale
         self.binary = name in BINARY
-        self._cv = None
+        self._cv: cv2.Feature2D | None = None  # None for mahotas' SURF
         if name == "sift":
-            self._cv = cv2.SIFT_create(nfeatures=max_features)
+            self._cv = cv2.SIFT.create(nfeatures=max_features)
         elif name == "orb":
-            self._cv = cv2.ORB_create(nfeatures=max_features)
+            self._cv = cv2.ORB.create(nfeatures=max_features)
         elif name == "kaze":
             self._cv = _cv2_factory("KAZE")(extended=False)
         elif name == "akaze":
@@ -147,7 +148,7 @@ class FeatureExtractor:
                 "normalize": self.normalize, "scale": self.scale, "view": self.view}
 
     def __setstate__(self, state: dict) -> None:
-        self.__init__(**state)
+        type(self).__init__(self, **state)
 
     def extract(self, gray: np.ndarray) -> Features:
         """Features of one image in this extractor's ``view``.
@@ -192,6 +193,7 @@ class FeatureExtractor:
             gray = self._clahe.apply(gray)
         if self.name == "surf":
             return self._surf(gray)
+        assert self._cv is not None  # every feature type but SURF has an OpenCV detector
         kps, desc = self._cv.detectAndCompute(gray, None)
         if desc is None or not kps:
             return self._empty()
@@ -199,7 +201,8 @@ class FeatureExtractor:
             order = np.argsort([-k.response for k in kps])[: self.max_features]
             kps = [kps[i] for i in order]
             desc = desc[order]
-        xy = cv2.KeyPoint_convert(kps).reshape(-1, 2)  # on the C++ side, not a Python loop
+        # on the C++ side, not a Python loop (an array, which cv2's stubs call a sequence)
+        xy = np.asarray(cv2.KeyPoint.convert(kps)).reshape(-1, 2)
         desc = desc if self.binary else np.asarray(desc, np.float32)
         return Features(xy, np.ascontiguousarray(desc), self.binary)
 

@@ -126,32 +126,38 @@ class PlaceIndex:
         RNG and afterwards reseeds it from a number drawn from the caller's stream, so a user's
         own ``cv2.setRNGSeed`` still gives them a reproducible sequence.
         """
+        data = self._data
+        assert data is not None  # rebuild() and _tally() build only over data
         if self.binary:
             # ORB: 4 k-medoids trees, one leaf searched in each. FLANN's hierarchical index with
             # the same parameters searched only the first tree's leaf (its checks were spent
             # there), finding the nearest feature's place less often, more slowly. LSH scans
             # buckets that fill as the map grows (ORB descriptors are far from uniform).
-            self._tree = HammingForest(self._data, trees=self.trees, branching=32,
-                                       leaf_size=100, seed=len(self._data))
+            self._tree = HammingForest(data, trees=self.trees, branching=32, leaf_size=100,
+                                       seed=len(data))
             return
         carry_on = np.zeros((1, 1), np.int32)
-        cv2.randu(carry_on, 0, np.iinfo(np.int32).max)
-        cv2.setRNGSeed(len(self._data))
+        # cv2's stubs take only arrays for low and high; OpenCV takes scalars too
+        cv2.randu(carry_on, 0, np.iinfo(np.int32).max)  # type: ignore[call-overload]
+        cv2.setRNGSeed(len(data))
         try:
             # SIFT: one randomized kd-tree with 16 checks shortlists the best place about as
             # often as more trees and checks, and loop closures stay nearly as fast at any size.
-            self._tree = cv2.flann_Index(self._data, dict(algorithm=_KDTREE, trees=1))
+            self._tree = cv2.flann.Index(data, dict(algorithm=_KDTREE, trees=1))
         finally:
             cv2.setRNGSeed(int(carry_on[0, 0]))
 
     def _search(self, descriptors: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """The nearest indexed feature of each descriptor and its distance (Euclidean, or
         Hamming as a fraction of the bits); FLANN's work is split over threads."""
+        tree = self._tree
         if self.binary:
-            idx, bits = self._tree.nearest(descriptors)
+            assert isinstance(tree, HammingForest)  # _build makes one for binary descriptors
+            idx, bits = tree.nearest(descriptors)
             return idx, bits / (8.0 * descriptors.shape[1])
+        assert isinstance(tree, cv2.flann.Index)  # ... and a FLANN kd-tree for float ones
         found = split_rows(
-            lambda rows: self._tree.knnSearch(rows, 1, params=dict(checks=self.checks)),
+            lambda rows: tree.knnSearch(rows, 1, params=dict(checks=self.checks)),
             descriptors, _MIN_SPLIT)
         idx = np.concatenate([i for i, _ in found])[:, 0].astype(np.int64)
         squared = np.concatenate([d for _, d in found])[:, 0].astype(np.float64)

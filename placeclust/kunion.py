@@ -115,8 +115,8 @@ class KAdjacentUnion:
                  ) -> dict[int, UnionKernel]:
         kernels: dict[int, UnionKernel] = {}
         for c in np.unique(labels).tolist():
-            members = np.nonzero(labels == c)[0][:: self.kernel_stride]
-            members = [m for m in members if len(descs[m])]
+            strided = np.nonzero(labels == c)[0][:: self.kernel_stride]
+            members = [m for m in strided if len(descs[m])]
             if not members:
                 continue
             k = UnionKernel(descs[members[0]], binary, self.kernel_capacity)

@@ -67,8 +67,8 @@ class NestedMapper:
     and only a key frame sharing fewer than ``min_matches`` points with it opens another. In the
     simulator's buildings that never happens at a door, with the panorama or the forward camera:
     the next room is in view before the robot enters it, and the default keeps one location
-    (``python -m envs.seed001``, ``docs/design.md``). :meth:`localize_one` relocalizes on the map
-    without changing it.
+    (``python -m envs.commands.seed001``, ``docs/design.md``). :meth:`localize_one` relocalizes
+    on the map without changing it.
 
     Args:
         features: local features (the paper uses SIFT).
@@ -191,7 +191,7 @@ class NestedMapper:
         frame goes to the location with most matches among the ranked ones if it has at least
         ``min_matches``, else -1; the map is never changed: no point is tracked, added or
         terminated, and no location, view or edge is opened. This is how a second drive is
-        scored against the map of the first (``python -m envs.seed001``).
+        scored against the map of the first (``python -m envs.commands.seed001``).
 
         Args:
             frame: an image (see :func:`~placeclust.frames.to_gray`), the size of the map's

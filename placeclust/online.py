@@ -16,8 +16,8 @@ from placeclust.features import FeatureExtractor
 from placeclust.frames import check_size, to_gray
 from placeclust.index import PlaceIndex
 from placeclust.kernel import UnionKernel
-from placeclust.mapfile import MapPersistence
 from placeclust.matching import dice_eq4, normalize
+from placeclust.persistence import MapPersistence
 from placeclust.presets import PANORAMA, PRESETS  # noqa: F401 (the package exports them)
 from placeclust.scene_change import SceneChangeGate
 
@@ -83,7 +83,7 @@ class OnlinePlaceClustering(MapPersistence):
             growing: a frame that would open a place is localized instead, as by
             :meth:`localize_one`. With capped kernels this bounds memory and latency for any
             run (ORB keeps opening places on new paths through known rooms, see
-            ``envs.longrun``). Consolidation never reuses a merged id, so with it ids can
+            ``envs.commands.longrun``). Consolidation never reuses a merged id, so with it ids can
             reach beyond ``max_places - 1``.
         ratio: Lowe's ratio for correspondences (Eq. 3).
         relocalize: search the whole map when no neighbour matches (see above).
@@ -422,7 +422,9 @@ class OnlinePlaceClustering(MapPersistence):
         best, *runner_up = sorted((self._compare(p, desc) for p in others),
                                   key=lambda c: c.distance)
         distance = best.distance
-        if runner_up and 1.0 - distance < ratio * (1.0 - runner_up[0].distance):
+        # runner_up is empty without a ratio test
+        if runner_up and ratio is not None and (
+                1.0 - distance < ratio * (1.0 - runner_up[0].distance)):
             distance = np.inf  # not distinctly the best: a doorway or a look-alike room
         if not self._rehearsal.observe(place, best.place, distance):
             return place

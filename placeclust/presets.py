@@ -20,8 +20,9 @@ from __future__ import annotations
 
 from collections.abc import Mapping
 from types import MappingProxyType
+from typing import Any
 
-#: Settings for 360° panoramas with the heading at the centre column (``envs.panorama``): side
+#: Settings for 360° panoramas with the heading at the centre column (``envs.world.panorama``): side
 #: views, kernels of half the size for half the features, the scene-change gate, detection on a
 #: 0.75 copy of the frame, and consolidation (a young place that keeps matching an older one is
 #: merged into it, :mod:`placeclust.consolidation`). The thresholds stay the defaults.
@@ -38,7 +39,7 @@ from types import MappingProxyType
 #: quality on the simulator's tours (``docs/benchmarks.md``). Its price is poorer reuse
 #: under another condition (light, furniture, noise), which the gate already makes poor;
 #: ``dict(PANORAMA, scale=1.0)`` gives the full-size detection back.
-PANORAMA: Mapping[str, object] = MappingProxyType(
+PANORAMA: Mapping[str, Any] = MappingProxyType(
     {"view": "sides", "kernel_capacity": 600, "scene_change": 0.25, "scale": 0.75,
      "consolidate": 0.85})
 
@@ -53,11 +54,11 @@ PANORAMA: Mapping[str, object] = MappingProxyType(
 #: 2.9 / 2.5 places per room (worst precision 0.96 / 0.96 / 0.92 / 0.75); at 0.12,
 #: ``t_new_cluster`` 0.85 / 0.92 / 0.94 met the bar on 8 / 21 / 23 of 24 tours
 #: (``docs/benchmarks.md``). With SIFT these values would merge rooms: keep :data:`PANORAMA`.
-PANORAMA_ORB: Mapping[str, object] = MappingProxyType(
+PANORAMA_ORB: Mapping[str, Any] = MappingProxyType(
     {**PANORAMA, "scene_change": 0.12, "t_new_cluster": 0.94})
 
 #: Named configurations of :class:`OnlinePlaceClustering` (the CLI's ``--preset``): ``paper``
 #: is seed 000's recognizer with the library's defaults, ``panorama`` is :data:`PANORAMA` and
 #: ``panorama-orb`` :data:`PANORAMA_ORB`.
-PRESETS: Mapping[str, Mapping[str, object]] = MappingProxyType(
+PRESETS: Mapping[str, Mapping[str, Any]] = MappingProxyType(
     {"paper": MappingProxyType({}), "panorama": PANORAMA, "panorama-orb": PANORAMA_ORB})

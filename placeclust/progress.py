@@ -9,7 +9,7 @@ from __future__ import annotations
 
 import sys
 import time
-from collections.abc import Iterable, Iterator
+from collections.abc import Iterable, Iterator, Sized
 from typing import Any, TextIO
 
 
@@ -38,7 +38,7 @@ def progress(iterable: Iterable | None = None, *, total: int | None = None, desc
         (4, 'demo: 4/8 frames (50%)', 'demo: 8 frames')
     """
     file = sys.stderr if file is None else file
-    if total is None and iterable is not None and hasattr(iterable, "__len__"):
+    if total is None and isinstance(iterable, Sized):
         total = len(iterable)
     if enabled and file.isatty():
         from tqdm import tqdm
@@ -60,6 +60,9 @@ class LogProgress:
         self._closed = False
 
     def __iter__(self) -> Iterator:
+        if self.iterable is None:
+            raise TypeError("a progress made without an iterable is advanced by update(), "
+                            "not iterated")
         for item in self.iterable:
             yield item
             self.update()

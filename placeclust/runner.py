@@ -9,8 +9,9 @@ from __future__ import annotations
 import ast
 import inspect
 import time
-from collections.abc import Iterable
+from collections.abc import Callable, Iterable
 from dataclasses import dataclass, field
+from typing import Any
 
 import numpy as np
 
@@ -190,10 +191,10 @@ def run(algo: str, frames: np.ndarray, features: str = "sift", progress: bool = 
     model = make(algo, features, **params)
     if is_offline(type(model)):
         start = time.perf_counter()
-        labels = np.asarray(model.fit_predict(frames), np.int64)
+        labels = np.asarray(_method(model, "fit_predict")(frames), np.int64)
         per_frame = (time.perf_counter() - start) / max(1, len(frames))
         return Result(labels, np.full(len(frames), per_frame), model, np.ones(len(frames), bool))
-    return _one_at_a_time(model, model.learn_predict_one, frames, progress, algo)
+    return _one_at_a_time(model, _method(model, "learn_predict_one"), frames, progress, algo)
 
 
 def localize(model: object, frames: np.ndarray, progress: bool = False) -> Result:
@@ -205,11 +206,19 @@ def localize(model: object, frames: np.ndarray, progress: bool = False) -> Resul
         frames: (T, H, W[, C]) images.
         progress: show a progress bar.
     """
-    return _one_at_a_time(model, model.localize_one, frames, progress, "localize")
+    return _one_at_a_time(model, _method(model, "localize_one"), frames, progress, "localize")
 
 
-def _one_at_a_time(model: object, step, frames: np.ndarray, progress: bool, desc: str
-                   ) -> Result:
+def _method(model: object, name: str) -> Callable[..., Any]:
+    """``model``'s method ``name``. Recognizers are duck-typed (any class with the protocol's
+    methods, see :func:`recognizer_class`), so the runner looks their methods up by name; a
+    missing one raises ``AttributeError``."""
+    method: Callable[..., Any] = getattr(model, name)
+    return method
+
+
+def _one_at_a_time(model: object, step: Callable[[np.ndarray], int], frames: np.ndarray,
+                   progress: bool, desc: str) -> Result:
     from placeclust.progress import progress as progress_bar
 
     labels = np.empty(len(frames), np.int64)

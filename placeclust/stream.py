@@ -20,12 +20,18 @@ Examples:
 
 from __future__ import annotations
 
+from collections.abc import Hashable
+from typing import TYPE_CHECKING
+
 import networkx as nx
 import numpy as np
 
 from placeclust.frames import check_size, to_gray
 from placeclust.online import UNKNOWN
 from placeclust.wavelet import haar_signature
+
+if TYPE_CHECKING:
+    from river.base import Clusterer
 
 CLUSTERERS = ("dbstream", "streamkmeans")
 
@@ -68,7 +74,7 @@ class StreamPlaces:
         self._last = UNKNOWN
         self._model = self._make_model()
 
-    def _make_model(self) -> object:
+    def _make_model(self) -> Clusterer:
         from river import cluster
 
         if self.clusterer == "dbstream":
@@ -81,7 +87,8 @@ class StreamPlaces:
         """Places opened so far."""
         return len(self._ids)
 
-    def _features(self, frame: np.ndarray) -> dict[int, float] | None:
+    def _features(self, frame: np.ndarray) -> dict[Hashable, float] | None:
+        """River's input: the unit Haar signature as feature index -> value, or ``None``."""
         gray = to_gray(frame)
         self.frame_shape = check_size(gray, self.frame_shape)
         signature = haar_signature(gray, self.wavelet_level).astype(float)

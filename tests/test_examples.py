@@ -20,7 +20,7 @@ def test_the_tiny_recognizer_passes_the_battery():
 
 
 def _cluster(tmp_path: Path, algo: str) -> subprocess.CompletedProcess:
-    return subprocess.run([sys.executable, "-m", "envs.cli", "cluster", "--algo", algo,
+    return subprocess.run([sys.executable, "-m", "envs.commands.cli", "cluster", "--algo", algo,
                            "--tour", str(tmp_path / "tour.npz"), "--out", str(tmp_path / algo),
                            "--quiet"], cwd=ROOT, capture_output=True, text=True)
 

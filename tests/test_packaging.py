@@ -1,6 +1,7 @@
 """The wheel a user installs: built from the repository, installed into a fresh virtual
 environment and used from another directory, it makes ``PlaceNav-v0`` and runs
-``placeclust tour`` and ``placeclust cluster`` (``docs/design.md``, "Packaging")."""
+``placeclust tour``, ``placeclust cluster`` and the closed loop, ``placeclust errands`` with the
+planner and the learned agent (``docs/design.md``, "Packaging")."""
 
 import shutil
 import subprocess
@@ -32,11 +33,16 @@ def test_the_wheel_holds_two_packages_and_the_assets(wheel):
     names = zipfile.ZipFile(wheel).namelist()
     tops = {n.split("/")[0] for n in names if not n.split("/")[0].endswith(".dist-info")}
     assert tops == {"placeclust", "placeclust_envs"}  # no top-level envs or train to shadow
-    assert {"placeclust_envs/assets/robot.xml",
-            "placeclust_envs/assets/room_styles.json"} <= set(names)
-    assert not any("policies" in n for n in names)  # the agents' files stay in the clone
+    assert {"placeclust_envs/assets/robot.xml", "placeclust_envs/assets/room_styles.json",
+            "placeclust_envs/assets/policies/errands/ppo_errands.zip",
+            "placeclust/py.typed", "placeclust_envs/py.typed"} <= set(names)
+    for sub in ("world", "tasks", "agents", "commands"):
+        assert f"placeclust_envs/{sub}/__init__.py" in names
+    # the closed loop's errand policy is installed; training's maps and policies stay in the clone
+    assert [n for n in names if "policies" in n] == [
+        "placeclust_envs/assets/policies/errands/ppo_errands.zip"]
     entry = zipfile.ZipFile(wheel).read(next(n for n in names if n.endswith("entry_points.txt")))
-    assert b"placeclust = placeclust_envs.cli:main" in entry
+    assert b"placeclust = placeclust_envs.commands.cli:main" in entry
 
 
 def test_the_installed_wheel_works_outside_the_repository(wheel, tmp_path):
@@ -71,3 +77,10 @@ def test_the_installed_wheel_works_outside_the_repository(wheel, tmp_path):
     table = run(placeclust, "cluster", "--features", "orb", "--tour", "t/tour.npz", "--out", "c",
                 "--quiet")
     assert "online/orb" in table and (work / "c" / "metrics.json").is_file()
+    # the closed loop: a guided tour and errands in one building, the planner and the shipped
+    # learned agent, on the true rooms (the recognizers' own checks are placeclust's tests)
+    for agent in ("planner", "ppo"):
+        scores = run(placeclust, "errands", "--scene-seeds", "0", "--rooms", "3",
+                     "--recognizer", "oracle", "--agent", agent, "--goals-per-scene", "1",
+                     "--json", f"{agent}.json")
+        assert "success_rate=" in scores and (work / f"{agent}.json").is_file()

@@ -3,8 +3,9 @@
     python -m train.evaluate --agent {ppo,random,noplace,oracle,planner,all} [--policy PATH]
         --episodes N --seed S [--json FILE] [--config YML --policies DIR]
 
-``--task unseen`` scores a recognizer in buildings never seen instead (:mod:`train.unseen`):
-a guided tour builds its map, then errands to the rooms the guide named.
+``--task unseen`` scores a recognizer in buildings never seen instead (``placeclust errands``,
+:mod:`envs.commands.closed_loop`): a guided tour builds its map, then errands to the rooms the
+guide named.
 
 ``--agent all`` scores every agent with its shipped policy and prints a markdown table.
 ``--config`` names the hyperparameter file the agents were trained with (its ``env`` sections
@@ -34,7 +35,7 @@ from pathlib import Path
 
 import numpy as np
 
-from envs.splits import split_of
+from envs.world.splits import split_of
 from placeclust.docs_section import write_section
 from train.config import HYPERPARAMS, env_section
 from train.make import PLANNER_SENSORS, SENSORS, make_env
@@ -73,7 +74,7 @@ class _Agent:
         if kind == "random":
             return
         if kind == "planner":
-            from train.planner import TopologicalPlanner
+            from envs.agents.topological import TopologicalPlanner
 
             wrapper = env.get_wrapper_attr("recognizer")
             self.planner = TopologicalPlanner.from_files(wrapper, map_dir / EDGES_FILE, seed)
@@ -146,7 +147,7 @@ def main(argv: list[str] | None = None) -> int:
     pre = argparse.ArgumentParser(add_help=False)
     pre.add_argument("--task", choices=("reach", "unseen"), default="reach")
     if pre.parse_known_args(argv)[0].task == "unseen":
-        from train.unseen import main as unseen
+        from envs.commands.closed_loop import main as unseen
 
         return unseen(argv)
     p = argparse.ArgumentParser(prog="python -m train.evaluate", description=__doc__,

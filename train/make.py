@@ -8,7 +8,7 @@
 | ``planner`` | all of ``PlaceNav``'s keys, ``goal_panorama`` and ``place_id`` (no learning) |
 | ``errands`` | guided tours of many buildings, through the tour planner's hints |
 
-``errands`` is another task (``PlaceNav-GuidedTour-v0``, :mod:`train.errand_agent`).
+``errands`` is another task (``PlaceNav-GuidedTour-v0``, :mod:`envs.agents.hints`).
 
 No agent sees the panorama itself: learning from pixels is not what this benchmark is about,
 and it would not train on a CPU in an hour.
@@ -17,7 +17,7 @@ and it would not train on a CPU in an hour.
 config ``train/hyperparams/ppo_proximity.yml`` trains a robot whose rangefinders reach 0.8 m
 instead of 4 m, enough not to hit walls but not to see the shape of the room. The world can
 take that away instead: ``train/hyperparams/ppo_corridor.yml`` (``layout: corridor``) puts
-the full ring in identical offices along a corridor (:mod:`envs.corridor`).
+the full ring in identical offices along a corridor (:mod:`envs.world.corridor`).
 """
 
 from __future__ import annotations
@@ -32,13 +32,13 @@ from gymnasium.spaces import Box, Dict
 from gymnasium.wrappers import FilterObservation, TransformObservation
 
 import envs  # noqa: F401  (registers the environments)
-from envs.place_id import PlaceIdWrapper, TrueRoomWrapper
-from envs.robot import MAX_RANGE
+from envs.tasks.place_id import PlaceIdWrapper, TrueRoomWrapper
+from envs.world.robot import MAX_RANGE
 from placeclust import OnlinePlaceClustering
 
 AGENTS = ("place", "noplace", "oracle", "planner", "errands")
 SENSORS = ("goal", "heading", "ranges", "odometry")
-#: what the planner's controller steers with (:func:`train.planner.steer`)
+#: what the planner's controller steers with (:func:`envs.agents.topological.steer`)
 PLANNER_SENSORS = frozenset({"heading", "ranges"})
 MAX_PLACES = 64
 
@@ -57,12 +57,12 @@ def make_env(agent: str, scene_seed: int = 0, n_rooms: int = 4, map_path: str | 
             ``goal`` (an agent that is not told the goal cannot be scored on reaching it).
         range_limit: if given, the rangefinders read at most this many metres (nothing nearer
             reads as the limit): proximity sensors instead of a ring that sees the whole room.
-        **task: more arguments of :class:`envs.reach_room.ReachRoomEnv`.
+        **task: more arguments of :class:`envs.tasks.reach_room.ReachRoomEnv`.
     """
     if agent not in AGENTS:
         raise ValueError(f"unknown agent {agent!r}; choose one of {AGENTS}")
-    if agent == "errands":  # guided tours of many buildings (train.errand_agent)
-        from train.errand_agent import TrainBuildings
+    if agent == "errands":  # guided tours of many buildings (train.buildings)
+        from train.buildings import TrainBuildings
 
         return TrainBuildings(n_rooms=n_rooms, **task)
     sensors = _check_sensors(sensors)

@@ -1,10 +1,11 @@
 """The place map an agent acts on: built once from a scripted tour, then kept fixed.
 
 Training on a fixed map keeps place ids stable while the policy learns them. The map is the
-online recognizer of seed 000 run over a scripted tour of the world (:func:`envs.tour.drive_tour`).
+online recognizer of seed 000 run over a scripted tour of the world
+(:func:`envs.tasks.tour.drive_tour`).
 Beside the map, ``map_edges.json`` records for each pair of places (a, b) the compass heading
 the robot drove in when the recognizer moved from a to b: what a classical topological planner
-(:mod:`train.planner`) needs to drive along the graph.
+(:mod:`envs.agents.topological`) needs to drive along the graph.
 """
 
 from __future__ import annotations
@@ -18,7 +19,7 @@ import gymnasium as gym
 import numpy as np
 
 import envs  # noqa: F401  (registers the environments)
-from envs.tour import drive_tour
+from envs.tasks.tour import drive_tour
 from placeclust import OnlinePlaceClustering
 
 MAP_FILE = "map.npz"

@@ -24,8 +24,8 @@ from typing import Any
 
 import yaml
 
-from envs.splits import check_split
-from envs.vector import single_threaded_workers
+from envs.tasks.vector import single_threaded_workers
+from envs.world.splits import check_split
 from train.config import HYPERPARAMS, load_config
 from train.make import AGENTS, make_env
 from train.mapping import EDGES_FILE, MAP_FILE, build_map
@@ -68,7 +68,7 @@ def train(agent: str, seed: int = 0, out: Path | None = None, timesteps: int | N
         raise ValueError(f"unknown agent {agent!r}; trainable agents are {TRAINABLE}")
     cfg = load_config(agent, config_path)
     env_cfg = dict(cfg.pop("env", {}))
-    # agents train on train-split buildings only: val chooses, test reports (envs.splits)
+    # agents train on train-split buildings only: val chooses, test reports (envs.world.splits)
     check_split("train", env_cfg.get("scene_seeds", [env_cfg.get("scene_seed", 0)]))
     map_cfg = dict(cfg.pop("map", {}))
     # the command line overrides the file; the rest of cfg goes to PPO
@@ -122,7 +122,7 @@ def _one_thread_each(enabled: bool) -> Iterator[None]:
     When the workers fill the cores, a multi-threaded torch in the learner, or llvmpipe,
     OpenCV, OpenMP or OpenBLAS threads in a worker, starve the others: with 2 workers on 2
     cores the place agent ran at 53-57 steps/s with the default threads, 72-75 with one
-    OpenMP thread each (``envs.vector.single_threaded_workers`` sets the rest). Settings the
+    OpenMP thread each (``envs.tasks.vector.single_threaded_workers`` sets the rest). Settings the
     user made win; all are restored afterwards.
     """
     import torch

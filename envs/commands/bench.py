@@ -1,0 +1,413 @@
+"""``placeclust bench``: the reproducible benchmark matrix.
+
+recognizers × feature types × worlds (scene seed, rooms, condition) × tour seeds. Each *run* is
+one recognizer with one feature type on one recorded tour; its configuration, its metrics and the
+versions of everything that produced it become one row of ``results.csv``.
+
+How it is run:
+
+- Runs are grouped by tour: a *job* records one tour in the simulator (frames are never stored,
+  so the full matrix needs no disk) and runs every recognizer on it that the matrix asks for.
+  Jobs go to a local process pool (``spawn``, one process per core by default) or to Ray
+  (``executor="ray"``, the optional ``ray`` extra). Both call the same :func:`run_tour_job`, so
+  they give the same rows; only the timings differ.
+- Every finished run is written at once to ``OUT/runs/<key>.json`` (atomically), where ``key``
+  hashes its configuration. Started again with the same matrix, the benchmark skips finished
+  runs: an interrupted benchmark resumes where it stopped.
+- A condition is a lighting (``day``, ``cloudy``, ``night``) or an appearance change
+  (``moved``: furniture and posters; ``noisy``: camera noise and blur), see
+  :data:`envs.world.conditions.CONDITIONS`. One written ``"day>night"`` is a cross-condition run:
+  the online recognizer maps the ``day`` tour, then localizes on the ``night`` tour of the same
+  route with the map fixed (:meth:`OnlinePlaceClustering.localize_one`), scored with the
+  places' day rooms. Only the online recognizer has a fixed-map mode, so the matrix leaves the
+  others out of these runs.
+- ``latency`` rows time the online recognizer as its map grows on synthetic places
+  (:func:`placeclust.latency.latency_vs_map_size`), for the latency vs map-size plot.
+"""
+
+from __future__ import annotations
+
+import functools
+import hashlib
+import json
+import os
+import platform
+from collections.abc import Iterator
+from dataclasses import asdict, dataclass, field, replace
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from placeclust import __version__
+from placeclust.atomic import write_atomic
+from placeclust.features import FEATURES
+from placeclust.runner import ALGORITHMS, check_params
+
+from ..world.conditions import CONDITIONS
+from .bench_report import write_report
+from .pool import run_all
+
+CROSS_ALGOS = ("online",)  # recognizers with a fixed-map (localize-only) mode
+ARRAYS = ("assignments", "truth")  # per-frame arrays of a run, stored beside its JSON
+
+
+@dataclass(frozen=True)
+class RunSpec:
+    """One run: a recognizer with a feature type on one tour of one world."""
+
+    algo: str
+    features: str
+    scene_seed: int
+    world_rooms: int
+    condition: str
+    tour_seed: int
+    steps_per_room: int
+    width: int = 512
+    height: int = 128
+    params: tuple[tuple[str, object], ...] = ()
+
+    @property
+    def key(self) -> str:
+        """A short hash of the configuration and the placeclust version: the run's file name
+        and resume key (a new version never reuses an old version's results)."""
+        text = json.dumps({**asdict(self), "placeclust": __version__}, sort_keys=True)
+        return hashlib.sha1(text.encode()).hexdigest()[:16]
+
+    @property
+    def tour(self) -> tuple:
+        """What fixes the tour's frames: runs with the same ``tour`` share one recording."""
+        return (self.scene_seed, self.world_rooms, self.condition, self.tour_seed,
+                self.steps_per_room, self.width, self.height)
+
+
+@dataclass(frozen=True)
+class Matrix:
+    """The benchmark's axes; :meth:`runs` is their product."""
+
+    algos: tuple[str, ...] = ALGORITHMS
+    features: tuple[str, ...] = ("sift", "orb")
+    scenes: tuple[int, ...] = (0, 1, 2)
+    rooms: tuple[int, ...] = (4,)
+    conditions: tuple[str, ...] = ("day", "day>night")
+    tour_seeds: tuple[int, ...] = (0,)
+    steps_per_room: int = 100
+    latency_features: tuple[str, ...] = ("sift", "orb")
+    latency_sizes: tuple[int, ...] = (10, 50, 100)
+    width: int = 512
+    height: int = 128
+    #: constructor arguments given to every recognizer of the matrix, as ``(name, value)``
+    params: tuple[tuple[str, object], ...] = ()
+
+    def __post_init__(self) -> None:
+        # each algo is a name of ALGORITHMS or package.module:Class (check_params loads it,
+        # naming one it cannot) whose recognizer takes every param of the matrix
+        for algo in self.algos:
+            check_params(algo, (name for name, _ in self.params))
+        _check_choices("features", self.features + self.latency_features, FEATURES)
+        for condition in self.conditions:
+            _check_choices("conditions", tuple(condition.split(">")), tuple(CONDITIONS))
+            if condition.count(">") > 1:
+                raise ValueError(f"condition {condition!r}: write one change, as 'day>night'")
+        for name in ("scenes", "rooms", "tour_seeds", "latency_sizes"):
+            if not all(isinstance(v, int) and v >= 0 for v in getattr(self, name)):
+                raise ValueError(f"{name} must be non-negative integers, got {getattr(self, name)}")
+        if min(self.rooms, default=1) < 1 or self.steps_per_room < 1:
+            raise ValueError("rooms and steps_per_room must be at least 1")
+        if min(self.latency_sizes, default=2) < 2:
+            raise ValueError("latency_sizes must be at least 2 places")
+
+    @property
+    def latency_sweeps(self) -> tuple[str, ...]:
+        """The feature types swept for the latency plot (none without map sizes)."""
+        return self.latency_features if self.latency_sizes else ()
+
+    def runs(self) -> list[RunSpec]:
+        """Every run of the matrix, in table order (cross-condition runs only for online)."""
+        out = []
+        for condition in self.conditions:
+            for algo in self.algos:
+                if ">" in condition and algo not in CROSS_ALGOS:
+                    continue
+                for feat in self.features:
+                    for scene in self.scenes:
+                        for n in self.rooms:
+                            for seed in self.tour_seeds:
+                                out.append(RunSpec(algo, feat, scene, n, condition, seed,
+                                                   self.steps_per_room, self.width, self.height,
+                                                   self.params))
+        return out
+
+
+def _check_choices(name: str, values: tuple[str, ...], allowed: tuple[str, ...]) -> None:
+    bad = [v for v in values if v not in allowed]
+    if bad:
+        raise ValueError(f"unknown {name} {bad}; choose from {list(allowed)}")
+
+
+#: the matrix's default axes by size (``placeclust bench --size``)
+SIZES: dict[str, Matrix] = {
+    # minutes on 2 cores: every recognizer, two feature types, three 4-room worlds, day>night
+    "quick": Matrix(),
+    # every axis: hours on 2 cores, resumable
+    "full": Matrix(features=("sift", "kaze", "orb"), scenes=(0, 1, 2), rooms=(4, 8, 12),
+                   conditions=("day", "night", "day>night", "day>moved", "day>noisy"),
+                   tour_seeds=(0, 1),
+                   steps_per_room=250, latency_features=("sift", "kaze", "orb"),
+                   latency_sizes=(10, 50, 100, 250, 500)),
+}
+
+
+def versions() -> dict[str, str]:
+    """Versions of the code and libraries that produce a row (recorded in every row)."""
+    from importlib.metadata import PackageNotFoundError, version
+
+    out = {"placeclust": __version__, "python": platform.python_version(),
+           "machine": platform.machine()}
+    for pkg in ("numpy", "opencv-contrib-python-headless", "scikit-learn", "scipy", "mujoco",
+                "mahotas"):
+        try:
+            out[pkg] = version(pkg)
+        except PackageNotFoundError:
+            out[pkg] = ""
+    return out
+
+
+# -- the store of finished runs ---------------------------------------------------------------
+
+@dataclass
+class RunStore:
+    """Finished runs as ``folder/<key>.json``, written atomically (temp file, then rename)."""
+
+    folder: Path
+    _cache: dict[str, dict] = field(default_factory=dict)
+
+    def __post_init__(self) -> None:
+        self.folder = Path(self.folder)
+        self.folder.mkdir(parents=True, exist_ok=True)
+
+    def get(self, key: str) -> dict | None:
+        """The finished row of run ``key``, or None (also for a damaged file: it is redone)."""
+        if key not in self._cache:
+            path = self.folder / f"{key}.json"
+            try:
+                self._cache[key] = json.loads(path.read_text())
+            except (OSError, ValueError):
+                return None
+        return self._cache[key]
+
+    def put(self, row: dict) -> None:
+        """Record one finished run; its arrays (``assignments``, ``truth``) go to ``<key>.npz``.
+
+        The JSON is written last: its presence marks the run as done.
+        """
+        row = dict(row)
+        # Any: numpy's stub would match the splat against savez's allow_pickle flag too
+        arrays: dict[str, Any] = {k: np.asarray(row.pop(k)) for k in ARRAYS if k in row}
+        if arrays:
+            write_atomic(self.folder / f"{row['key']}.npz", lambda f: np.savez(f, **arrays))
+        text = json.dumps(row, indent=1, sort_keys=True).encode()
+        write_atomic(self.folder / f"{row['key']}.json", lambda f: f.write(text))
+        self._cache[row["key"]] = row
+
+    def arrays(self, key: str) -> dict[str, np.ndarray]:
+        """``assignments`` (place per frame, -1 unknown) and ``truth`` (room per frame) of a run."""
+        with np.load(self.folder / f"{key}.npz") as z:
+            return {k: z[k] for k in z.files}
+
+
+# -- jobs ---------------------------------------------------------------------------------------
+
+@dataclass(frozen=True)
+class Job:
+    """One unit of work: ``"tour"`` (the runs that share one tour, ``specs``) or
+    ``"latency"`` (a latency sweep of ``features`` over map ``sizes``)."""
+
+    kind: str
+    specs: tuple[RunSpec, ...] = ()
+    features: str = ""
+    sizes: tuple[int, ...] = ()
+
+
+def plan_jobs(matrix: Matrix, store: RunStore) -> tuple[list[Job], int]:
+    """Jobs for the runs not yet in ``store``; also returns how many runs were already done."""
+    todo: dict[tuple, list[RunSpec]] = {}
+    done = 0
+    for spec in matrix.runs():
+        if store.get(spec.key) is not None:
+            done += 1
+        else:
+            todo.setdefault(spec.tour, []).append(spec)
+    jobs = [Job("tour", tuple(specs)) for specs in todo.values()]
+    for feat in matrix.latency_sweeps:
+        if store.get(latency_key(feat, matrix.latency_sizes)) is None:
+            jobs.append(Job("latency", features=feat, sizes=tuple(matrix.latency_sizes)))
+        else:
+            done += 1
+    return jobs, done
+
+
+def latency_key(features: str, sizes: tuple[int, ...]) -> str:
+    """The store key of one latency sweep."""
+    text = json.dumps({"latency": features, "sizes": sorted(sizes), "placeclust": __version__})
+    return hashlib.sha1(text.encode()).hexdigest()[:16]
+
+
+def run_job(job: Job, store_dir: str | None = None) -> list[dict]:
+    """Run one job (in a worker process or a Ray task) and return its rows.
+
+    With ``store_dir`` each run is also recorded there as soon as it finishes, so an interrupt
+    loses at most the run in progress; Ray tasks on other machines pass None and the driver
+    records their rows.
+    """
+    store = RunStore(Path(store_dir)) if store_dir else None
+    rows = []
+    for row in (_latency_rows(job) if job.kind == "latency" else _tour_rows(job.specs)):
+        if store is not None:
+            store.put(row)
+        rows.append(row)
+    return rows
+
+
+def _latency_rows(job: Job) -> Iterator[dict]:
+    from placeclust.latency import latency_vs_map_size
+
+    points = latency_vs_map_size(job.features, list(job.sizes))
+    yield {"key": latency_key(job.features, job.sizes), "kind": "latency",
+           "features": job.features, "points": points, **versions()}
+
+
+def _tour_rows(specs: tuple[RunSpec, ...]) -> Iterator[dict]:
+    from placeclust.runner import evaluate, run
+
+    first = specs[0]
+    mapped, cross = first.condition.partition(">")[::2]
+    frames, room = _record(replace(first, condition=mapped))
+    if cross:
+        test_frames, test_room = _record(replace(first, condition=cross))
+    online_places: dict[str, int] = {}  # per feature type, for n_clusters="online"
+    for spec in specs:
+        if cross:
+            pred, metrics = _cross_condition(spec, frames, room, test_frames, test_room)
+            truth = test_room
+        else:
+            params = _matched_k(dict(spec.params), spec.features, frames, room, online_places)
+            result = run(spec.algo, frames, spec.features, **params)
+            pred, truth, metrics = result.assignments, room, evaluate(result, room)
+        # params as JSON gives them back from the store, so every executor returns equal rows
+        yield {"key": spec.key, "kind": "run", **asdict(spec), **metrics, **versions(),
+               "params": [list(p) for p in spec.params], "assignments": pred, "truth": truth}
+
+
+def _matched_k(params: dict, features: str, frames: np.ndarray, room: np.ndarray,
+               online_places: dict[str, int]) -> dict:
+    """``params`` with ``n_clusters="rooms"`` or ``"online"`` made a number for this tour.
+
+    Purity rewards more clusters, so the offline methods are compared with the online one at
+    matched numbers of places: the rooms the tour visited, or the places the online
+    recognizer (with its defaults and the same features) opened on it.
+    """
+    from placeclust.online import OnlinePlaceClustering
+    from placeclust.runner import run
+
+    k = params.get("n_clusters")
+    if k == "rooms":
+        params["n_clusters"] = int(len(np.unique(room[room >= 0])))
+    elif k == "online":
+        if features not in online_places:
+            model = run("online", frames, features).model
+            assert isinstance(model, OnlinePlaceClustering)  # what run("online") makes
+            online_places[features] = model.n_places
+        params["n_clusters"] = online_places[features]
+    return params
+
+
+def _record(spec: RunSpec) -> tuple[np.ndarray, np.ndarray]:
+    from ..tasks.tour import record_tour
+
+    steps = spec.steps_per_room * spec.world_rooms
+    tour, _ = record_tour(spec.scene_seed, spec.world_rooms, steps, spec.tour_seed, spec.width,
+                          spec.height, progress=False, **CONDITIONS[spec.condition])
+    return tour.frames, tour.room
+
+
+def _cross_condition(spec: RunSpec, frames: np.ndarray, room: np.ndarray,
+                     test_frames: np.ndarray, test_room: np.ndarray
+                     ) -> tuple[np.ndarray, dict[str, float]]:
+    """Map on ``frames``, then localize ``test_frames`` on the fixed map (see module doc).
+
+    Returns the place of every test frame and the metrics of the test tour.
+    """
+    from placeclust.metrics import place_to_room, score
+    from placeclust.online import OnlinePlaceClustering
+    from placeclust.runner import evaluate, localize, run
+
+    params: dict[str, Any] = dict(spec.params)  # checked against the recognizer by Matrix
+    mapped = run(spec.algo, frames, spec.features, **params)
+    rooms_of = place_to_room(mapped.assignments, room)
+    # the matrix has cross-condition runs only for CROSS_ALGOS, whose maps can be fixed
+    assert isinstance(mapped.model, OnlinePlaceClustering)
+    mapped.model.reset_position()
+    tested = localize(mapped.model, test_frames)
+    pred, metrics = tested.assignments, evaluate(tested, test_room)
+    # precision against the rooms the places were mapped in, not the test tour's own majority
+    metrics["precision"] = float(np.mean([rooms_of.get(int(p), -1) == r
+                                          for p, r in zip(pred, test_room)]))
+    metrics["map_precision"] = score(mapped.assignments, room)["precision"]
+    return pred, metrics
+
+
+# -- executing jobs -----------------------------------------------------------------------------
+
+def execute(jobs: list[Job], store: RunStore, workers: int = 0, executor: str = "process",
+            ray_address: str | None = None, progress: bool = True) -> Iterator[dict]:
+    """Run ``jobs`` in parallel and yield their rows as jobs finish (recorded in ``store``).
+
+    Args:
+        workers: processes (or Ray CPUs of a local Ray instance); 0 means one per core.
+        executor: ``"process"`` (a local ``spawn`` pool, the default) or ``"ray"``.
+        ray_address: with ``"ray"``, the cluster to join (None starts a local instance).
+    """
+    from placeclust.progress import progress as progress_bar
+
+    if executor not in ("process", "ray"):
+        raise ValueError(f"unknown executor {executor!r}; choose 'process' or 'ray'")
+    workers = workers or os.cpu_count() or 1
+    # the biggest tours first, so the last job to finish is a short one
+    jobs = sorted(jobs, key=lambda j: -sum(s.world_rooms for s in j.specs))
+    bar = progress_bar(total=len(jobs), enabled=progress, desc="bench", unit="job")
+    # local workers record their own runs; Ray's may not share this disk, so the driver does
+    on_ray = executor == "ray"
+    run = functools.partial(run_job, store_dir=None if on_ray else str(store.folder))
+    try:
+        for _, rows in run_all(run, jobs, workers, executor, ray_address):
+            for row in rows if on_ray else ():
+                store.put(row)
+            bar.update()
+            yield from rows
+    finally:
+        bar.close()
+
+
+def run_bench(matrix: Matrix, out: str | os.PathLike, workers: int = 0, executor: str = "process",
+              ray_address: str | None = None, progress: bool = True) -> list[dict]:
+    """Run the benchmark ``matrix`` into folder ``out`` (resuming) and write its report.
+
+    Writes ``config.json`` (the matrix and versions), ``runs/`` (one JSON per finished run),
+    ``results.csv``, ``results.md`` (also printed), ``precision.png`` and ``latency.png``.
+    Returns the rows of ``results.csv``.
+    """
+
+    folder = Path(out)
+    store = RunStore(folder / "runs")
+    (folder / "config.json").write_text(json.dumps(
+        {"matrix": asdict(matrix), "versions": versions()}, indent=1))
+    jobs, done = plan_jobs(matrix, store)
+    if progress:
+        print(f"{done} runs already done in {folder}; {len(jobs)} jobs to go")
+    for _ in execute(jobs, store, workers, executor, ray_address, progress):
+        pass
+    rows = [store.get(spec.key) for spec in matrix.runs()]
+    latency = [store.get(latency_key(f, matrix.latency_sizes)) for f in matrix.latency_sweeps]
+    return write_report([r for r in rows if r], [r for r in latency if r], folder,
+                        ["key", *RunSpec.__dataclass_fields__], progress)

@@ -1,0 +1,192 @@
+"""The benchmark's report: ``results.csv``, a Fig. 2-style markdown table and two plots."""
+
+from __future__ import annotations
+
+import csv
+from collections.abc import Iterable, Sequence
+from pathlib import Path
+
+import numpy as np
+
+from placeclust.features import BINARY
+
+from ..world.splits import split_of
+
+METRIC_COLUMNS = ["precision", "recall", "f_measure", "nmi", "ari", "n_places", "n_rooms",
+                  "unknown_rate", "matching_rate", "mean_AC", "mean_TP", "mean_P",
+                  "ms_per_frame", "ms_p95", "ms_mean", "map_precision"]
+TABLE_KEYS = ("precision", "recall", "nmi", "ari")
+
+
+METRIC_KEYS = ("precision", "recall", "f_measure", "nmi", "ari", "n_places", "n_rooms",
+              "ms_per_frame")
+
+
+def format_table(rows: dict[str, dict[str, float]], keys: tuple[str, ...] = METRIC_KEYS) -> str:
+    """A markdown table: one row per method, one column per metric."""
+    head = "| method | " + " | ".join(keys) + " |"
+    sep = "|---" * (len(keys) + 1) + "|"
+    lines = [head, sep]
+    for name, m in rows.items():
+        cells = [f"{m[k]:.3f}" if isinstance(m[k], float) else str(m[k]) for k in keys]
+        lines.append(f"| {name} | " + " | ".join(cells) + " |")
+    return "\n".join(lines)
+
+
+def params_text(params: Iterable[Sequence[object]] | None) -> str:
+    """Recognizer parameters of a run as ``name=value`` joined by commas ("" for none)."""
+    return ", ".join(f"{name}={value}" for name, value in params or ())
+
+
+def write_csv(rows: list[dict], path: str | Path, spec_columns: list[str]) -> None:
+    """One line per run: its ``spec_columns`` (the configuration), metrics, then the versions
+    that produced it."""
+    rows = [{**r, "params": params_text(r.get("params"))} for r in rows]
+    columns = spec_columns + METRIC_COLUMNS
+    columns += sorted({k for r in rows for k in r} - set(columns) - {"kind"})
+    with open(path, "w", newline="") as f:
+        writer = csv.DictWriter(f, columns, restval="", extrasaction="ignore")
+        writer.writeheader()
+        writer.writerows(rows)
+
+
+def _methods(rows: list[dict]) -> dict[tuple[str, str, str], list[dict]]:
+    groups: dict[tuple[str, str, str], list[dict]] = {}
+    for r in rows:
+        feat = ", ".join(filter(None, (r["features"], params_text(r.get("params")))))
+        groups.setdefault((r["algo"], feat, r["condition"]), []).append(r)
+    return groups
+
+
+#: The bar a tour meets: precision, NMI at least, places per room at most (the 360° bar).
+BAR = {"precision": 0.95, "nmi": 0.80, "places_per_room": 2.0}
+#: The bar for binary features (ORB, AKAZE): ids pure enough for agents, fewer than 3 per room.
+BINARY_BAR = {"precision": 0.93, "nmi": 0.0, "places_per_room": 3.0}
+
+
+def meets_bar(row: dict) -> bool:
+    """Whether one run meets its feature type's bar (:data:`BAR`, or :data:`BINARY_BAR` for
+    binary descriptors) on all three counts."""
+    bar = BINARY_BAR if row.get("features") in BINARY else BAR
+    return (row["precision"] >= bar["precision"] and row["nmi"] >= bar["nmi"]
+            and row["n_places"] <= bar["places_per_room"] * row["n_rooms"])
+
+
+def summary_table(rows: list[dict]) -> str:
+    """Per method and condition, the distribution over worlds and tours, as in seed 000's Fig. 2.
+
+    Each metric is the mean with the worst run in brackets (lowest precision, recall, NMI and
+    ARI; most places per room); ``bar`` is the share of runs meeting their bar
+    (:func:`meets_bar`).
+    """
+    lines = ["| method | condition | " + " | ".join(f"{k} (worst)" for k in TABLE_KEYS)
+             + " | places/rooms (worst) | bar | ms/frame | runs |",
+             "|---" * (len(TABLE_KEYS) + 6) + "|"]
+    for (algo, feat, condition), sel in _methods(rows).items():
+        cells = [f"{np.mean([r[k] for r in sel]):.3f} ({min(r[k] for r in sel):.3f})"
+                 for k in TABLE_KEYS]
+        ratios = [r["n_places"] / r["n_rooms"] for r in sel]
+        met = sum(map(meets_bar, sel))
+        ms = np.median([r["ms_per_frame"] for r in sel])
+        lines.append(f"| {algo} ({feat}) | {condition} | " + " | ".join(cells)
+                     + f" | {np.mean(ratios):.2f} ({max(ratios):.2f}) | {met}/{len(sel)} | "
+                     f"{ms:.1f} | {len(sel)} |")
+    return "\n".join(lines)
+
+
+def worlds_line(rows: list[dict]) -> str:
+    """Which scene seeds the runs come from, and their split (:mod:`envs.world.splits`)."""
+    seeds = sorted({int(r["scene_seed"]) for r in rows})
+    splits = sorted({split_of(s) or "none" for s in seeds})
+    return f"Scene seeds {', '.join(map(str, seeds))}; split: {', '.join(splits)}."
+
+
+def latency_table(latency: list[dict]) -> str:
+    """Median ms per frame of the online recognizer at each map size."""
+    lines = ["| features | places | tracking ms | loop closure ms |", "|---|---|---|---|"]
+    for row in latency:
+        for p in row["points"]:
+            lines.append(f"| {row['features']} | {p['places']} | {p['track_ms']:.1f} | "
+                         f"{p['loop_ms']:.1f} |")
+    return "\n".join(lines)
+
+
+def plot_precision(rows: list[dict], path: str | Path) -> None:
+    """Bars of mean precision (± std) per method, one group per condition."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    groups = _methods(rows)
+    methods = list(dict.fromkeys((a, f) for a, f, _ in groups))
+    conditions = list(dict.fromkeys(li for _, _, li in groups))
+    width = 0.8 / max(1, len(conditions))
+    fig, ax = plt.subplots(figsize=(max(6.0, 0.8 * len(methods) + 2), 4), dpi=100)
+    for i, condition in enumerate(conditions):
+        xs, means, stds = [], [], []
+        for j, (algo, feat) in enumerate(methods):
+            sel = groups.get((algo, feat, condition))
+            if sel:
+                xs.append(j + (i - (len(conditions) - 1) / 2) * width)
+                means.append(np.mean([r["precision"] for r in sel]))
+                stds.append(np.std([r["precision"] for r in sel]))
+        ax.bar(xs, means, width, yerr=stds, capsize=3, label=condition)
+    ax.set_xticks(range(len(methods)), [f"{a}\n{f}" for a, f in methods], fontsize=8)
+    ax.set_ylim(0, 1.05)
+    ax.set_ylabel("clustering precision")
+    ax.set_title("clustering precision per method (mean ± std over worlds and tours)")
+    ax.legend(title="condition", fontsize=8, loc="upper left", bbox_to_anchor=(1.0, 1.0))
+    ax.grid(axis="y", alpha=0.3)
+    fig.tight_layout()
+    fig.savefig(path)
+    plt.close(fig)
+
+
+def plot_latency(latency: list[dict], path: str | Path) -> None:
+    """Median ms per frame against map size: tracking (solid) and loop closures (dashed)."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    fig, ax = plt.subplots(figsize=(6, 4), dpi=100)
+    for row in latency:
+        places = [p["places"] for p in row["points"]]
+        line = ax.plot(places, [p["track_ms"] for p in row["points"]], "o-",
+                       label=f"{row['features']} tracking")
+        ax.plot(places, [p["loop_ms"] for p in row["points"]], "s--", color=line[0].get_color(),
+                label=f"{row['features']} loop closure")
+    ax.set_xscale("log")
+    ax.set_xlabel("places in the map")
+    ax.set_ylabel("median ms per frame")
+    ax.set_title("online recognizer latency as the map grows (512×128)")
+    ax.grid(alpha=0.3)
+    ax.legend(fontsize=8)
+    fig.tight_layout()
+    fig.savefig(path)
+    plt.close(fig)
+
+
+def write_report(rows: list[dict], latency: list[dict], folder: str | Path,
+                 spec_columns: list[str], echo: bool = True) -> list[dict]:
+    """Write ``results.csv``, ``results.md``, ``precision.png`` and ``latency.png``.
+
+    ``spec_columns`` are the fields that configure a run, the first columns of the CSV.
+    Returns ``rows``; prints the markdown when ``echo``.
+    """
+    folder = Path(folder)
+    write_csv(rows, folder / "results.csv", spec_columns)
+    parts = ["# placeclust bench", ""]
+    if rows:
+        parts += [worlds_line(rows), "", summary_table(rows), ""]
+        plot_precision(rows, folder / "precision.png")
+    if latency:
+        parts += ["Latency as the map grows (synthetic places, 512×128):", "",
+                  latency_table(latency), ""]
+        plot_latency(latency, folder / "latency.png")
+    text = "\n".join(parts)
+    (folder / "results.md").write_text(text)
+    if echo:
+        print(text)
+    return rows

@@ -1,0 +1,290 @@
+"""The ``placeclust`` command line: ``tour``, ``cluster``, ``demo`` and ``bench``.
+
+It sits above both the library (:mod:`placeclust`) and the simulator (this package): ``tour``,
+``demo`` and ``bench`` drive the simulator, ``cluster`` runs a recognizer on a recorded tour.
+"""
+
+from __future__ import annotations
+
+import argparse
+import importlib
+import json
+import shlex
+import sys
+from pathlib import Path
+from typing import TYPE_CHECKING, Any
+
+import numpy as np
+
+from placeclust import PRESETS
+from placeclust.docs_section import write_section
+from placeclust.features import FEATURES
+from placeclust.runner import ALGORITHMS, check_params, evaluate, literal_params, run
+
+from ..world.conditions import LIGHTING
+from ..world.splits import SPLITS, check_split, scenes, split_of
+from .bench_report import format_table
+
+if TYPE_CHECKING:
+    from .bench import Matrix
+
+
+def load_tour(path: str) -> tuple[np.ndarray, np.ndarray]:
+    """``(frames, room)`` from a ``tour.npz``, with clear errors for missing or wrong arrays."""
+    p = Path(path)
+    if not p.is_file():
+        raise SystemExit(f"error: tour file {path} does not exist")
+    try:
+        z = np.load(p, allow_pickle=False)
+    except Exception as exc:
+        raise SystemExit(f"error: cannot read {path} as a .npz file: {exc}") from exc
+    for key in ("frames", "room"):
+        if key not in z.files:
+            raise SystemExit(f"error: {path} has no '{key}' array (it has {z.files})")
+    frames, room = z["frames"], z["room"]
+    if frames.ndim not in (3, 4) or frames.dtype != np.uint8:
+        raise SystemExit(f"error: 'frames' must be uint8 (T, H, W[, 3]), got {frames.dtype} "
+                         f"{frames.shape}")
+    if room.shape != (len(frames),):
+        raise SystemExit(f"error: 'room' has shape {room.shape}, expected ({len(frames)},)")
+    return frames, room
+
+
+def cmd_tour(args: argparse.Namespace) -> None:
+    if args.steps < 1:
+        raise SystemExit(f"error: --steps must be a positive number of frames, got {args.steps}")
+    from ..tasks.tour import record_tour
+
+    out = Path(args.out)
+    if args.camera == "forward":  # --width and --height size the forward image instead
+        size = {"image_width": args.width or 320, "image_height": args.height or 240}
+        tour, plan = record_tour(args.scene_seed, args.rooms, args.steps, args.seed,
+                                 lighting=args.lighting, progress=not args.quiet,
+                                 camera="forward", **size)
+    else:
+        tour, plan = record_tour(args.scene_seed, args.rooms, args.steps, args.seed,
+                                 args.width or 512, args.height or 128, args.lighting,
+                                 progress=not args.quiet)
+    out.mkdir(parents=True, exist_ok=True)
+    tour.save(str(out / "tour.npz"), scene_seed=args.scene_seed, tour_seed=args.seed,
+              lighting=args.lighting, camera=args.camera)
+    from .figures import save_floor_plan
+
+    save_floor_plan(plan, str(out / "floorplan.png"), tour.pose,
+                    title=f"scene {args.scene_seed}, {args.rooms} rooms, {args.steps} steps")
+    print(f"wrote {out / 'tour.npz'} ({args.steps} frames, scene {args.scene_seed}: "
+          f"{split_of(args.scene_seed) or 'no'} split) and {out / 'floorplan.png'}")
+
+
+def tour_scene(path: str) -> dict[str, object]:
+    """The scene seed a ``tour.npz`` was recorded in, its split and camera (those recorded)."""
+    with np.load(path, allow_pickle=False) as z:
+        camera: dict[str, object] = {"camera": str(z["camera"])} if "camera" in z.files else {}
+        if "scene_seed" not in z.files:
+            return camera
+        seed = int(z["scene_seed"])
+    return {"scene_seed": seed, "split": split_of(seed), **camera}
+
+
+def preset_params(preset: str, items: list[str] | None) -> dict[str, object]:
+    """The arguments of recognizer preset ``preset``, with ``--param`` items overriding them."""
+    return {**PRESETS[preset], **literal_params(items)}
+
+
+def cmd_cluster(args: argparse.Namespace) -> None:
+    params = preset_params(args.preset, args.param)
+    check_params(args.algo, params)
+    frames, room = load_tour(args.tour)
+    scene = tour_scene(args.tour)
+    if scene.get("camera") == "forward" and params.get("view") == "sides":
+        raise ValueError(f"{args.tour} was recorded by the forward camera; view='sides' keeps "
+                         "the left and right of a 360° panorama, which this image does not have")
+    result = run(args.algo, frames, args.features, progress=not args.quiet, **params)
+    metrics = evaluate(result, room)
+    out = Path(args.out)
+    out.mkdir(parents=True, exist_ok=True)
+    np.save(out / "assignments.npy", result.assignments)
+    meta = {"algo": args.algo, "features": args.features, "tour": str(args.tour),
+            "preset": args.preset, "params": params, **scene}
+    (out / "metrics.json").write_text(json.dumps({**meta, **metrics}, indent=2))
+    print(format_table({f"{args.algo}/{args.features}": metrics}))
+
+
+def cmd_demo(args: argparse.Namespace) -> None:
+    from .demo import run_demo
+
+    table = run_demo(args.out, scene_seed=args.scene_seed, n_rooms=args.rooms, steps=args.steps,
+                     seed=args.seed)
+    if args.docs:
+        body = (f"Scene seed {args.scene_seed}, {args.rooms} rooms, {args.steps} frames of "
+                f"512x128 panoramas, SIFT, tour seed {args.seed}.\n\n{format_table(table)}")
+        write_section(args.docs, "demo", body, args.command_line)
+
+
+def bench_plan(args: argparse.Namespace) -> tuple[Matrix, Path]:
+    """The benchmark matrix and report folder that ``placeclust bench`` ARGS ask for."""
+    from dataclasses import replace
+
+    from .bench import SIZES
+
+    size = "quick" if args.quick else args.size
+    if args.split:
+        args.scenes = args.scenes or scenes(args.split)
+        check_split(args.split, args.scenes)
+    # Any: the axes are tuples of str or int, steps_per_room an int; Matrix checks them
+    overrides: dict[str, Any] = {name: tuple(value) for name, value in (
+        ("algos", args.algos), ("features", args.features), ("scenes", args.scenes),
+        ("rooms", args.rooms), ("conditions", args.conditions), ("tour_seeds", args.tour_seeds),
+        ("latency_sizes", args.latency_sizes)) if value is not None}
+    if args.steps_per_room is not None:
+        overrides["steps_per_room"] = args.steps_per_room
+    params = preset_params(args.preset, args.param)
+    if params:
+        overrides["params"] = tuple(params.items())
+    if args.workers < 0:
+        raise ValueError(f"--workers must be 0 (one per core) or more, got {args.workers}")
+    return replace(SIZES[size], **overrides), Path(args.out or f"runs/bench-{size}")
+
+
+def cmd_bench(args: argparse.Namespace) -> None:
+    from .bench import run_bench
+
+    matrix, out = bench_plan(args)
+    run_bench(matrix, out, args.workers, args.executor, args.ray_address,
+              progress=not args.quiet)
+    if args.docs:  # the section is named after the report folder: runs/panorama -> panorama
+        report = (out / "results.md").read_text().split("\n", 1)[1]  # less its "# " title
+        write_section(args.docs, out.name, report, args.command_line)
+
+
+def _add_bench(sub: argparse._SubParsersAction) -> None:
+    bench = sub.add_parser("bench", help="the benchmark matrix: results.csv, table and plots",
+                           description="Recognizers x features x worlds x tour seeds, in "
+                           "parallel, resuming finished runs. The axes default to --size's.")
+    bench.add_argument("--size", choices=("quick", "full"), default="full",
+                       help="the matrix's default axes: quick (minutes) or full (hours)")
+    bench.add_argument("--quick", action="store_true", help="same as --size quick")
+    _add_preset(bench)
+    bench.add_argument("--split", choices=tuple(SPLITS),
+                       help="take the scenes from this split (its first 4 unless --scenes "
+                       "names some of it): train to tune, val to choose, test to report")
+    bench.add_argument("--out", help="report folder (default runs/bench-SIZE)")
+    bench.add_argument("--algos", nargs="+", metavar="ALGO",
+                       help=f"any of {', '.join(ALGORITHMS)}, or package.module:Class for a "
+                       "recognizer of your own (placeclust.checks)")
+    bench.add_argument("--features", nargs="+", choices=FEATURES)
+    bench.add_argument("--scenes", nargs="+", type=int)
+    bench.add_argument("--rooms", nargs="+", type=int)
+    bench.add_argument("--conditions", nargs="+", help="day, cloudy, night, moved, noisy, or "
+                       "map>test as day>night (online only)")
+    bench.add_argument("--tour-seeds", nargs="+", type=int)
+    bench.add_argument("--steps-per-room", type=int)
+    bench.add_argument("--latency-sizes", nargs="*", type=int,
+                       help="map sizes of the latency sweep (none: skip it)")
+    bench.add_argument("--param", action="append", metavar="NAME=VALUE",
+                       help="a constructor argument of every recognizer run (repeatable), "
+                            "e.g. view=sides; overrides the preset's")
+    bench.add_argument("--workers", type=int, default=0, help="processes; 0: one per core")
+    bench.add_argument("--executor", choices=("process", "ray"), default="process")
+    bench.add_argument("--ray-address", help="Ray cluster to join (default: start a local one)")
+    bench.add_argument("--quiet", action="store_true")
+    _add_docs(bench)
+    bench.set_defaults(func=cmd_bench)
+
+
+def _add_preset(parser: argparse.ArgumentParser) -> None:
+    described = "; ".join(
+        f"{name}: " + (", ".join(f"{k}={v}" for k, v in args.items()) or "the library defaults "
+                       "(seed 000 as published)") for name, args in PRESETS.items())
+    parser.add_argument("--preset", choices=tuple(PRESETS), default="paper",
+                        help=f"the recognizer's configuration ({described})")
+
+
+def _add_docs(parser: argparse.ArgumentParser) -> None:
+    parser.add_argument("--docs", metavar="FILE",
+                        help="also write the table into FILE's generated section of this "
+                        "command (docs/benchmarks.md; see placeclust.docs_section)")
+
+
+def build_parser() -> argparse.ArgumentParser:
+    parser = argparse.ArgumentParser(
+        prog="placeclust", description="Unsupervised, online place recognition: record tours "
+        "in a simulated building, cluster them into places, benchmark recognizers.")
+    sub = parser.add_subparsers(dest="command", required=True)
+
+    tour = sub.add_parser("tour", help="drive a scripted tour and record it")
+    tour.add_argument("--scene-seed", type=int, default=0)
+    tour.add_argument("--rooms", type=int, default=4)
+    tour.add_argument("--steps", type=int, default=1000)
+    tour.add_argument("--seed", type=int, default=0, help="start pose and route")
+    tour.add_argument("--camera", choices=("panorama", "forward"), default="panorama",
+                      help="the 360° panorama, or one perspective camera looking ahead (seed "
+                      "001's monocular camera)")
+    tour.add_argument("--width", type=int, help="image width (panorama 512, forward 320)")
+    tour.add_argument("--height", type=int, help="image height (panorama 128, forward 240)")
+    tour.add_argument("--lighting", default="day", choices=LIGHTING)
+    tour.add_argument("--out", required=True)
+    tour.add_argument("--quiet", action="store_true")
+    tour.set_defaults(func=cmd_tour)
+
+    cluster = sub.add_parser("cluster", help="cluster a recorded tour and score it")
+    cluster.add_argument("--algo", default="online", metavar="ALGO",
+                         help=f"one of {', '.join(ALGORITHMS)} (default online), or "
+                         "package.module:Class for a recognizer of your own (placeclust.checks)")
+    cluster.add_argument("--features", choices=FEATURES, default="sift")
+    cluster.add_argument("--tour", required=True, help="path to tour.npz")
+    _add_preset(cluster)
+    cluster.add_argument("--param", action="append", metavar="NAME=VALUE",
+                         help="a constructor argument of the recognizer, e.g. "
+                         "t_new_cluster=0.9 or scale=0.75 (repeatable; overrides the "
+                         "preset's)")
+    cluster.add_argument("--out", required=True)
+    cluster.add_argument("--quiet", action="store_true")
+    cluster.set_defaults(func=cmd_cluster)
+
+    demo = sub.add_parser("demo", help="tour the default world and report (the main job)")
+    demo.add_argument("--out", default="runs/demo")
+    demo.add_argument("--scene-seed", type=int, default=0)
+    demo.add_argument("--rooms", type=int, default=4)
+    demo.add_argument("--steps", type=int, default=1000)
+    demo.add_argument("--seed", type=int, default=0)
+    _add_docs(demo)
+    demo.set_defaults(func=cmd_demo)
+    _add_bench(sub)
+    for name, (_, text) in COMMANDS.items():
+        sub.add_parser(name, help=text, add_help=False)  # listed here, parsed by its own main
+    return parser
+
+
+#: subcommands that are commands of their own, with their own options (``placeclust NAME -h``):
+#: name -> (module with ``main(argv, prog)``, relative to this package if it starts with a dot,
+#: help)
+COMMANDS = {
+    "leaderboard": (".leaderboard", "rank recognizers by errand success after a guided tour of "
+                    "buildings never seen (the closed loop)"),
+    "errands": (".closed_loop", "one recognizer's errands after a guided tour of each building "
+                "of a split"),
+    "seed001": (".seed001", "seed 001's experiment on its paper's forward camera"),
+    "longrun": (".longrun", "the online recognizer in the loop for many steps"),
+    "speed": (".speed", "the simulator's steps per second against a bare render"),
+    "latency": ("placeclust.latency", "the online recognizer's time per frame as its map grows "
+                "(no simulator)"),
+}
+
+
+def main(argv: list[str] | None = None) -> None:
+    argv = sys.argv[1:] if argv is None else list(argv)
+    if argv and argv[0] in COMMANDS:
+        module = importlib.import_module(COMMANDS[argv[0]][0], __package__)
+        raise SystemExit(module.main(argv[1:], prog=f"placeclust {argv[0]}"))
+    args = build_parser().parse_args(argv)
+    args.command_line = shlex.join(["placeclust", *argv])
+    try:
+        args.func(args)
+    except ValueError as exc:  # bad input named by the library: no traceback for users
+        print(f"error: {exc}", file=sys.stderr)
+        raise SystemExit(2) from exc
+
+
+if __name__ == "__main__":
+    main()

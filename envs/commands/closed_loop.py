@@ -1,0 +1,242 @@
+"""Errands in buildings never seen: one guided tour per building, then errands to named rooms.
+
+Each building of a split gets one episode of ``PlaceNav-GuidedTour-v0``: the tour builds the
+recognizer's map from nothing, then the agent runs ``goals`` errands on it. Nothing is trained
+on the building and nothing is retrained when the recognizer changes, so the success rate
+ranks recognizers by what their maps are worth to an agent.
+
+    placeclust errands --split test --rooms 6 --recognizer panorama \\
+        --goals-per-scene 5 --seed 0 --json runs/unseen.json
+
+Examples:
+    >>> from envs.commands.closed_loop import run_scene
+    >>> row = run_scene(0, n_rooms=3, recognizer="oracle", goals=2, seed=0,
+    ...                 tour_steps_per_room=40)
+    >>> row["success_rate"], row["precision"]
+    (1.0, 1.0)
+"""
+
+from __future__ import annotations
+
+import argparse
+import hashlib
+import inspect
+import json
+import sys
+import time
+from pathlib import Path
+from typing import Any
+
+import gymnasium as gym
+import numpy as np
+
+from placeclust import __version__
+from placeclust.atomic import write_atomic
+from placeclust.progress import progress as progress_bar
+
+from ..agents import hints, teach_repeat, topological
+from ..agents.teach_repeat import TourPlanner
+from ..tasks import tour
+from ..tasks.guided_tour import RECOGNIZERS, check_recognizer_name
+from ..world.splits import add_scope_arguments, scope_seeds
+from ..world.textures import ASSETS
+from .pool import run_all
+
+#: agents that run errands on a guided tour's map; ``planner`` is the best
+ERRAND_AGENTS = ("planner", "ppo", "random")
+#: the shipped errand policy (``make train-errands``), package data of the wheel too
+POLICY = ASSETS / "policies" / "errands" / "ppo_errands.zip"
+
+
+def run_scene(scene_seed: int, n_rooms: int = 6, recognizer: str = "panorama",
+              agent: str = "planner", goals: int = 5, seed: int = 0,
+              policy: str | Path | None = None, **task: Any) -> dict[str, Any]:
+    """One guided tour of building ``scene_seed`` and ``goals`` errands; the outcome.
+
+    Args:
+        scene_seed, n_rooms: the building.
+        recognizer: one of :data:`~envs.tasks.guided_tour.RECOGNIZERS`.
+        agent: one of :data:`ERRAND_AGENTS`.
+        goals: errands after the tour.
+        seed: the episode's seed (with the scene seed: the tour's route and the errands' goals).
+        policy: the ``ppo`` agent's policy (default: the shipped one).
+        **task: more ``PlaceNav-GuidedTour-v0`` arguments.
+
+    Returns:
+        ``success_rate``, ``spl``, ``mean_length`` (steps per errand), the tour map's
+        ``precision``, ``nmi``, ``n_places``, ``places_per_room``, the ``errands`` themselves
+        and ``seconds``.
+    """
+    if agent not in ERRAND_AGENTS:
+        raise ValueError(f"unknown agent {agent!r}; choose one of {ERRAND_AGENTS}")
+    check_recognizer_name(recognizer)
+    model = _load_policy(Path(policy or POLICY)) if agent == "ppo" else None
+    start = time.perf_counter()
+    env = gym.make("PlaceNav-GuidedTour-v0", recognizer=recognizer, scene_seed=scene_seed,
+                   n_rooms=n_rooms, n_errands=goals, **task)
+    if model is not None:  # the learned agent sees the planner's hints and corrects its action
+        env = hints.PlannerHints(env, seed)
+    try:
+        obs, info = env.reset(seed=seed * 100_003 + scene_seed)
+        act = (_agent(agent, env, info, obs, seed) if model is None
+               else lambda x: model.predict(x, deterministic=True)[0])
+        done = False
+        while not done:
+            obs, _, done, _, step_info = env.step(act(obs))
+    finally:
+        env.close()
+    errands = step_info["errands"]
+    return {"scene_seed": scene_seed, "recognizer": recognizer, "agent": agent,
+            "success_rate": float(np.mean([e["success"] for e in errands])),
+            "spl": float(np.mean([e["spl"] for e in errands])),
+            "mean_length": float(np.mean([e["steps"] for e in errands])),
+            **info["map"], "errands": errands, "seconds": time.perf_counter() - start}
+
+
+def _agent(kind: str, env: gym.Env, info: dict, obs: dict, seed: int):
+    if kind == "random":
+        rng = np.random.default_rng(seed)
+        return lambda _obs: rng.uniform(-1, 1, 2).astype(np.float32)
+    planner = TourPlanner(unknown=hints.unknown_place(env), seed=seed)
+    planner.reset(info["tour"], obs)
+    return planner.act
+
+
+def _load_policy(policy: Path):
+    """The PPO errand agent's model (:mod:`envs.agents.hints`)."""
+    from stable_baselines3 import PPO
+
+    if not policy.is_file():
+        raise FileNotFoundError(f"no policy file {policy}; train one with python -m "
+                                "train.train --agent errands --config "
+                                "train/hyperparams/ppo_errands.yml")
+    return PPO.load(policy, device="cpu")
+
+
+def summarize(rows: list[dict[str, Any]]) -> dict[str, Any]:
+    """Scores over buildings: errand-weighted means, and the worst building's success rate."""
+    errands = [e for r in rows for e in r["errands"]]
+    return {
+        "recognizer": rows[0]["recognizer"], "agent": rows[0]["agent"],
+        "scenes": [r["scene_seed"] for r in rows], "errands": len(errands),
+        "success_rate": float(np.mean([e["success"] for e in errands])),
+        "worst_scene_success": float(min(r["success_rate"] for r in rows)),
+        "spl": float(np.mean([e["spl"] for e in errands])),
+        "mean_length": float(np.mean([e["steps"] for e in errands])),
+        **{k: float(np.mean([r[k] for r in rows]))
+           for k in ("precision", "nmi", "n_places", "places_per_room")},
+        "seconds": float(sum(r["seconds"] for r in rows)),
+    }
+
+
+#: the slow recognizers first, so the last job to finish is a short one
+COST = {"panorama": 0, "nested": 1, "panorama-orb": 2, "random": 3, "none": 4, "oracle": 5}
+#: the modules an agent's errands depend on, besides the placeclust version
+AGENT_SOURCES = (sys.modules[__name__], teach_repeat, topological, hints, tour)
+
+
+def agent_fingerprint(job: dict[str, Any]) -> str:
+    """A hash of what drives a job's agent: :data:`AGENT_SOURCES` and, for ``ppo``, the
+    policy file. A planner edited or a policy trained again within one version of placeclust
+    would otherwise be scored by the rows its predecessor left in ``OUT/runs/``."""
+    digest = hashlib.sha256()
+    for module in AGENT_SOURCES:
+        digest.update(Path(inspect.getfile(module)).read_bytes())
+    if job["agent"] == "ppo":
+        policy = Path(job.get("policy") or POLICY)
+        if policy.is_file():  # a missing one is reported by the job itself
+            digest.update(policy.read_bytes())
+    return digest.hexdigest()[:16]
+
+
+def job_key(job: dict[str, Any]) -> str:
+    """The file name of a job's result: everything that changes it."""
+    policy = f"-{Path(job['policy']).stem}" if job.get("policy") else ""
+    return (f"{job['recognizer']}-{job['agent']}{policy}-scene{job['scene_seed']}"
+            f"-rooms{job['n_rooms']}-goals{job['goals']}-seed{job['seed']}")
+
+
+def make_jobs(scene_seeds: list[int], recognizers: list[str], n_rooms: int, agent: str,
+              goals: int, seed: int, policy: Path | None = None) -> list[dict[str, Any]]:
+    """One :func:`run_scene` job per recognizer and building."""
+    extra = {"policy": str(policy)} if policy else {}
+    return [{"scene_seed": s, "n_rooms": n_rooms, "recognizer": r, "agent": agent,
+             "goals": goals, "seed": seed, **extra} for r in recognizers for s in scene_seeds]
+
+
+def run_jobs(jobs: list[dict[str, Any]], out: Path | None = None, workers: int = 1,
+             executor: str = "process", progress: bool = True) -> list[dict[str, Any]]:
+    """Run :func:`run_scene` for each job (its keyword arguments); the rows.
+
+    With ``out``, each row is kept in ``out/runs/<key>.json`` and a row already there from
+    this version of placeclust and the same agent (:func:`agent_fingerprint`) is not run again.
+    """
+    store = None if out is None else Path(out) / "runs"
+    agents = {job_key(job): agent_fingerprint(job) for job in jobs}
+    done = {}
+    if store is not None:
+        store.mkdir(parents=True, exist_ok=True)
+        for job in jobs:
+            path = store / f"{job_key(job)}.json"
+            if path.is_file():
+                row = json.loads(path.read_text())
+                if (row.get("version"), row.get("agent_fingerprint")) == (
+                        __version__, agents[job_key(job)]):
+                    done[job_key(job)] = row
+    todo = sorted((j for j in jobs if job_key(j) not in done),
+                  key=lambda j: COST.get(j["recognizer"], 0))
+    bar = progress_bar(total=len(todo), enabled=progress, desc="errands", unit="building")
+    for job, row in run_all(_run_job, todo, workers, executor):
+        row["version"], row["agent_fingerprint"] = __version__, agents[job_key(job)]
+        done[job_key(job)] = row
+        if store is not None:
+            _keep(store / f"{job_key(job)}.json", row)
+        bar.update()
+    bar.close()
+    return [done[job_key(j)] for j in jobs]
+
+
+def _keep(path: Path, row: dict[str, Any]) -> None:
+    """Write a finished row to ``path`` at once: an interrupted run leaves no half file."""
+    text = json.dumps(row, indent=1).encode()
+    write_atomic(path, lambda f: f.write(text))
+
+
+def _run_job(job: dict[str, Any]) -> dict[str, Any]:
+    return run_scene(**job)
+
+
+def main(argv: list[str] | None = None, prog: str = "placeclust errands"
+         ) -> int:
+    """``placeclust errands ...``: one recognizer, one agent, a split."""
+
+    p = argparse.ArgumentParser(prog=prog,
+                                description=__doc__,
+                                formatter_class=argparse.RawDescriptionHelpFormatter)
+    p.add_argument("--task", choices=("unseen",), default="unseen")
+    add_scope_arguments(p, n_scenes=8)
+    p.add_argument("--rooms", type=int, default=6)
+    p.add_argument("--recognizer", choices=RECOGNIZERS, required=True)
+    p.add_argument("--agent", choices=ERRAND_AGENTS, default="planner")
+    p.add_argument("--policy", type=Path, help="the ppo agent's policy (default: shipped)")
+    p.add_argument("--goals-per-scene", type=int, default=5)
+    p.add_argument("--seed", type=int, default=0)
+    p.add_argument("--json", type=Path, help="also write the scores here")
+    p.add_argument("--workers", type=int, default=1)
+    p.add_argument("--out", type=Path, help="keep each building's result here and resume")
+    args = p.parse_args(argv)
+    seeds = scope_seeds(args, p)
+    if args.goals_per_scene < 1:
+        p.error(f"--goals-per-scene must be positive, got {args.goals_per_scene}")
+    jobs = make_jobs(seeds, [args.recognizer], args.rooms, args.agent, args.goals_per_scene,
+                     args.seed, args.policy)
+    try:
+        rows = run_jobs(jobs, args.out, args.workers)
+    except (ValueError, FileNotFoundError) as e:
+        print(f"error: {e}", file=sys.stderr)
+        return 2
+    summary = {**summarize(rows), "split": args.split, "rooms": args.rooms, "seed": args.seed}
+    print(" ".join(f"{k}={v:.3f}" for k, v in summary.items() if isinstance(v, float)))
+    if args.json:
+        args.json.write_text(json.dumps({**summary, "buildings": rows}, indent=1))
+    return 0

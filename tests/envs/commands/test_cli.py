@@ -1,0 +1,168 @@
+import json
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+
+from envs.commands.cli import COMMANDS, build_parser, main
+
+
+def test_cluster_cli_writes_consistent_metrics(tmp_path, two_places):
+    frames, truth = two_places
+    np.savez(tmp_path / "tour.npz", frames=frames, room=truth, pose=np.zeros((len(truth), 3)))
+    out = tmp_path / "res"
+    proc = subprocess.run([sys.executable, "-m", "envs.commands.cli", "cluster", "--algo", "online",
+                           "--features", "orb", "--tour", str(tmp_path / "tour.npz"), "--out",
+                           str(out), "--quiet"], capture_output=True, text=True, check=True)
+    assert "precision" in proc.stdout
+    metrics = json.loads((out / "metrics.json").read_text())
+    assign = np.load(out / "assignments.npy")
+    assert len(assign) == len(truth)
+    assert metrics["n_places"] == len(np.unique(assign[assign >= 0]))
+    assert {"precision", "recall", "nmi", "ari", "n_places", "n_rooms", "ms_per_frame"} <= set(
+        metrics)
+
+
+def test_cluster_cli_names_bad_input(tmp_path):
+    def cli(*args):
+        return subprocess.run([sys.executable, "-m", "envs.commands.cli", "cluster", *args,
+                               "--out", str(tmp_path / "o")], capture_output=True, text=True)
+
+    missing = cli("--tour", str(tmp_path / "nope.npz"))
+    assert missing.returncode != 0 and "does not exist" in missing.stderr
+    np.savez(tmp_path / "bad.npz", frames=np.zeros((3, 8)), room=np.zeros(3))
+    bad = cli("--tour", str(tmp_path / "bad.npz"))
+    assert bad.returncode != 0 and "'frames' must be uint8" in bad.stderr
+    assert not (tmp_path / "o").exists()
+
+
+def test_bad_input_leaves_earlier_results_alone(tmp_path, two_places):
+    """A failed run names the problem, exits non-zero and keeps what an earlier run wrote."""
+    out = tmp_path / "res"
+    out.mkdir()
+    (out / "metrics.json").write_text('{"precision": 0.9}')
+    np.save(out / "assignments.npy", np.arange(3))
+    frames, truth = two_places
+    np.savez(tmp_path / "short.npz", frames=frames, room=truth[:-1])
+    np.savez(tmp_path / "noroom.npz", frames=frames)
+
+    def cli(*args):
+        return subprocess.run([sys.executable, "-m", "envs.commands.cli", *args],
+                              capture_output=True, text=True)
+
+    for args, message in [
+        (("cluster", "--tour", str(tmp_path / "short.npz")), "'room' has shape"),
+        (("cluster", "--tour", str(tmp_path / "noroom.npz")), "no 'room' array"),
+        (("cluster", "--tour", str(tmp_path / "short.npz"), "--features", "surf64"),
+         "invalid choice"),
+    ]:
+        proc = cli(*args, "--out", str(out))
+        assert proc.returncode != 0 and message in proc.stderr, (args, proc.stderr)
+    assert (out / "metrics.json").read_text() == '{"precision": 0.9}'
+    assert np.array_equal(np.load(out / "assignments.npy"), np.arange(3))
+    demo = cli("demo", "--steps", "-1", "--out", str(tmp_path / "d"))
+    assert demo.returncode != 0 and "steps must be positive" in demo.stderr
+    bench = cli("bench", "--quick", "--workers", "-2", "--out", str(tmp_path / "b"))
+    assert bench.returncode != 0 and "--workers" in bench.stderr
+    assert not (tmp_path / "b").exists()
+
+
+def test_cluster_cli_passes_and_records_recognizer_parameters(tmp_path, two_places):
+    frames, truth = two_places
+    np.savez(tmp_path / "tour.npz", frames=frames, room=truth)
+    out = tmp_path / "res"
+    main(["cluster", "--features", "orb", "--tour", str(tmp_path / "tour.npz"), "--out", str(out),
+          "--quiet", "--param", "t_new_cluster=0.99", "--param", "max_places=1",
+          "--param", "normalize=clahe"])
+    metrics = json.loads((out / "metrics.json").read_text())
+    assert metrics["params"] == {"t_new_cluster": 0.99, "max_places": 1, "normalize": "clahe"}
+    assert metrics["n_places"] == 1  # max_places reached the recognizer
+
+
+@pytest.mark.parametrize("param, message", [
+    ("t_new=0.9", "online has no parameter 't_new'; it takes ['max_features'"),
+    ("t_new_cluster", "--param takes NAME=VALUE"),
+    ("t_new_cluster=0.5", "t_update_cluster < t_new_cluster"),
+])
+def test_cluster_cli_names_a_bad_parameter_and_writes_nothing(tmp_path, two_places, capsys,
+                                                               param, message):
+    frames, truth = two_places
+    np.savez(tmp_path / "tour.npz", frames=frames, room=truth)
+    with pytest.raises(SystemExit) as exc:
+        main(["cluster", "--tour", str(tmp_path / "tour.npz"), "--out", str(tmp_path / "o"),
+              "--param", param])
+    assert exc.value.code == 2 and message in capsys.readouterr().err
+    assert not (tmp_path / "o").exists()
+
+
+def test_presets_name_configurations_and_params_override_them(tmp_path, two_places):
+    frames, truth = two_places
+    np.savez(tmp_path / "tour.npz", frames=frames, room=truth, scene_seed=2001)
+
+    def cluster(out: str, *args: str) -> dict:
+        main(["cluster", "--features", "orb", "--tour", str(tmp_path / "tour.npz"),
+              "--out", str(tmp_path / out), "--quiet", *args])
+        return json.loads((tmp_path / out / "metrics.json").read_text())
+
+    preset = cluster("a", "--preset", "panorama")
+    spelled = cluster("b", "--param", "view=sides", "--param", "kernel_capacity=600",
+                      "--param", "scene_change=0.25", "--param", "scale=0.75",
+                      "--param", "consolidate=0.85")
+    assert preset["params"] == spelled["params"] == {
+        "view": "sides", "kernel_capacity": 600, "scene_change": 0.25, "scale": 0.75,
+        "consolidate": 0.85}
+    np.testing.assert_array_equal(np.load(tmp_path / "a" / "assignments.npy"),
+                                  np.load(tmp_path / "b" / "assignments.npy"))
+    assert preset["scene_seed"] == 2001 and preset["split"] == "test"
+    assert cluster("c", "--preset", "panorama", "--param", "scale=1.0")["params"]["scale"] == 1.0
+    assert cluster("d")["params"] == {}  # paper: the library defaults
+    orb = cluster("e", "--preset", "panorama-orb")["params"]
+    assert orb == {**preset["params"], "scene_change": 0.12, "t_new_cluster": 0.94}
+
+
+def test_a_preset_the_algorithm_cannot_take_is_one_line_of_error(tmp_path, two_places, capsys):
+    frames, truth = two_places
+    np.savez(tmp_path / "tour.npz", frames=frames, room=truth)
+    with pytest.raises(SystemExit) as exc:
+        main(["cluster", "--algo", "kmeans", "--preset", "panorama", "--tour",
+              str(tmp_path / "tour.npz"), "--out", str(tmp_path / "o")])
+    assert exc.value.code == 2
+    assert "kernel_capacity" in capsys.readouterr().err
+    assert not (tmp_path / "o").exists()
+
+
+@pytest.mark.parametrize("argv, scenes, error", [
+    (["--split", "test"], (2000, 2001, 2002, 2003), None),
+    (["--split", "val", "--scenes", "1007"], (1007,), None),
+    (["--split", "test", "--scenes", "3"], None, "not in the 'test' split"),
+    (["--scenes", "5"], (5,), None),
+])
+def test_bench_takes_its_scenes_from_a_split(argv, scenes, error):
+    from envs.commands.cli import bench_plan, build_parser
+
+    args = build_parser().parse_args(["bench", "--quick", "--algos", "online", "--preset",
+                                      "panorama", *argv])
+    if error:
+        with pytest.raises(ValueError, match=error):
+            bench_plan(args)
+        return
+    matrix, out = bench_plan(args)
+    assert matrix.scenes == scenes and out.name == "bench-quick"
+    assert dict(matrix.params)["view"] == "sides"
+
+
+def test_whole_commands_run_under_placeclust(capsys, tmp_path):
+    """``placeclust errands`` (and leaderboard, seed001, longrun, speed, latency) are the
+    modules' own command lines, under the installed command."""
+    scores = tmp_path / "scores.json"
+    with pytest.raises(SystemExit) as exc:
+        main(["errands", "--scene-seeds", "0", "--rooms", "3", "--recognizer", "oracle",
+              "--goals-per-scene", "1", "--json", str(scores)])
+    assert exc.value.code == 0 and "success_rate=" in capsys.readouterr().out
+    assert scores.is_file()
+    with pytest.raises(SystemExit) as exc:  # the closed loop's old name for PANORAMA
+        main(["errands", "--scene-seeds", "0", "--recognizer", "online"])
+    assert exc.value.code == 2 and "usage: placeclust errands" in capsys.readouterr().err
+    listed = build_parser().format_help()
+    assert all(name in listed for name in COMMANDS)

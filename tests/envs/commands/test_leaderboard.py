@@ -1,0 +1,64 @@
+"""The closed loop's store and ranking: the leaderboard resumes, reruns what changed, ranks;
+``train.evaluate --task unseen`` writes its scores."""
+
+import json
+import math
+
+import pytest
+
+import envs  # noqa: F401
+from envs.commands import closed_loop
+from envs.commands.closed_loop import agent_fingerprint, run_jobs, summarize
+from envs.commands.leaderboard import leaderboard, rank_agreement
+from train import evaluate
+
+
+def test_the_leaderboard_resumes_and_ranks(tmp_path):
+    jobs = [{"scene_seed": s, "recognizer": r, "goals": 1, "seed": 0, "agent": "planner",
+             "n_rooms": 3} for r in ("oracle",) for s in (0, 1)]
+    rows = run_jobs(jobs, tmp_path, progress=False)
+    files = sorted((tmp_path / "runs").glob("*.json"))
+    assert len(rows) == 2 and len(files) == 2
+    stamp = [f.stat().st_mtime_ns for f in files]
+    assert run_jobs(jobs, tmp_path, progress=False) == rows  # resumed, nothing run again
+    assert [f.stat().st_mtime_ns for f in files] == stamp
+    summary = summarize(rows)
+    assert summary["errands"] == 2 and summary["success_rate"] == 1.0
+    table = leaderboard([summary, {**summary, "recognizer": "random", "success_rate": 0.1}])
+    assert table.index("oracle") < table.index("random")
+    fake = [{"success_rate": s, "nmi": n} for s, n in ((1, 1), (0.5, 0.6), (0.1, 0.2))]
+    assert rank_agreement(fake) == pytest.approx(1.0)
+
+
+def test_the_leaderboard_runs_again_for_another_agent(tmp_path, monkeypatch):
+    jobs = [{"scene_seed": 0, "recognizer": "oracle", "goals": 1, "seed": 0, "agent": "planner",
+             "n_rooms": 3}]
+    run_jobs(jobs, tmp_path, progress=False)
+    (kept,) = (tmp_path / "runs").glob("*.json")
+    stamp = kept.stat().st_mtime_ns
+    monkeypatch.setattr(closed_loop, "agent_fingerprint", lambda job: "edited planner")
+    (row,) = run_jobs(jobs, tmp_path, progress=False)
+    assert kept.stat().st_mtime_ns != stamp and row["agent_fingerprint"] == "edited planner"
+
+
+def test_the_agent_fingerprint_follows_the_policy_file(tmp_path):
+    job = {"agent": "ppo", "policy": str(tmp_path / "a.zip")}
+    (tmp_path / "a.zip").write_bytes(b"one policy")
+    first = agent_fingerprint(job)
+    (tmp_path / "a.zip").write_bytes(b"the policy trained again")
+    assert agent_fingerprint(job) != first
+    assert agent_fingerprint({"agent": "planner"}) == agent_fingerprint({"agent": "planner"})
+
+
+def test_evaluate_unseen_writes_the_contracted_scores(tmp_path, capsys):
+    out = tmp_path / "scores.json"
+    code = evaluate.main(["--task", "unseen", "--scene-seeds", "0", "--rooms", "3",
+                          "--recognizer", "oracle", "--goals-per-scene", "2", "--seed", "1",
+                          "--json", str(out)])
+    assert code == 0
+    scores = json.loads(out.read_text())
+    for key in ("success_rate", "spl", "mean_length", "precision", "nmi", "n_places"):
+        assert math.isfinite(scores[key])
+    assert "success_rate=" in capsys.readouterr().out
+    with pytest.raises(SystemExit):  # the test split is for reporting: seeds are checked
+        evaluate.main(["--task", "unseen", "--split", "test", "--recognizer", "psychic"])

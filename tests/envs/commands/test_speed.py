@@ -1,0 +1,26 @@
+"""``placeclust speed`` runs end to end and writes its table (a smoke test: no timing is
+asserted, only what the table says)."""
+
+import re
+
+import pytest
+
+from envs.commands import speed
+
+
+def test_the_simulator_benchmark_writes_its_ratios(tmp_path, capsys):
+    doc = tmp_path / "benchmarks.md"
+    speed.main(["--steps", "2", "--rounds", "1", "--docs", str(doc)])
+    text = doc.read_text()
+    assert "BEGIN GENERATED simulator" in text and "placeclust speed" in text
+    rows = re.findall(r"^\| (\d+x\d+) \| (\d+) \| .* \*\*([\d.]+)x\*\* \| ([\d.]+) \|", text, re.M)
+    assert [(size, rooms) for size, rooms, *_ in rows] == [
+        (f"{w}x{h}", str(r)) for w, h, r in speed.ROWS]
+    assert all(float(r) > 0 and float(cores) > 0 for *_, r, cores in rows)
+    assert re.search(r"\*\*[\d.]+x\*\* with single-threaded workers", text)
+    assert "env.step / floor" in capsys.readouterr().out
+
+
+def test_bad_counts_are_refused():
+    with pytest.raises(SystemExit):
+        speed.main(["--steps", "0"])

@@ -1,0 +1,85 @@
+import gymnasium as gym
+import numpy as np
+import pytest
+
+from envs.tasks.guided_tour import GuidedTourEnv
+
+SMALL = {"n_rooms": 3, "n_errands": 2, "tour_steps_per_room": 40, "errand_steps": 60}
+
+
+@pytest.fixture
+def make_tour(made):
+    def _make(**kwargs):
+        made.append(gym.make("PlaceNav-GuidedTour-v0", **{**SMALL, **kwargs}))
+        return made[-1]
+
+    return _make
+
+
+def test_the_guide_names_every_room_once_and_the_map_is_scored(make_tour):
+    env = make_tour(recognizer="oracle")
+    obs, info = env.reset(seed=0)
+    rooms = sorted(r.name for r in env.unwrapped.plan.rooms)
+    assert sorted(info["tour"].heard_names()) == rooms == sorted(info["named"])
+    tour = info["tour"]
+    assert len(tour.place_id) == len(tour.heard) == len(tour.odometry) >= 3 * 40
+    assert info["map"]["precision"] == 1.0 and info["map"]["nmi"] == pytest.approx(1.0)
+    assert obs["goal"] in rooms and obs in env.observation_space
+    assert "panorama" not in obs  # no ground truth and no image unless asked for
+
+
+def test_errands_end_the_episode_with_their_outcomes(make_tour):
+    env = make_tour(recognizer="oracle")
+    obs, info = env.reset(seed=1)
+    done, ends, steps = False, [], 0
+    while not done:
+        obs, reward, done, truncated, info = env.step(np.zeros(2, np.float32))
+        steps += 1
+        assert not truncated and np.isfinite(reward)
+        if "errand_result" in info:
+            ends.append(info["errand_result"])
+    assert len(ends) == 2 and info["errands"] == ends and steps <= 2 * 60
+    assert obs in env.observation_space  # the last observation too
+    assert all(e["steps"] <= 60 and 0.0 <= e["spl"] <= 1.0 for e in ends)
+    with pytest.raises(RuntimeError, match="reset"):
+        env.step(np.zeros(2, np.float32))
+
+
+def test_the_same_seed_gives_the_same_tour_and_goals(make_tour):
+    a, b = make_tour(recognizer="random", panorama_width=64, panorama_height=16), \
+        make_tour(recognizer="random", panorama_width=64, panorama_height=16)
+    (oa, ia), (ob, ib) = a.reset(seed=5), b.reset(seed=5)
+    assert np.array_equal(ia["tour"].place_id, ib["tour"].place_id)
+    assert oa["goal"] == ob["goal"] and ia["map"] == ib["map"]
+
+
+def test_goals_must_be_rooms_the_guide_named(make_tour):
+    env = make_tour(recognizer="oracle")
+    names = [r.name for r in env.unwrapped.plan.rooms]
+    obs, _ = env.reset(seed=0, options={"goals": [names[1], names[2]]})
+    assert obs["goal"] == names[1]
+    with pytest.raises(KeyError, match="unknown room"):
+        env.reset(seed=0, options={"goals": ["ballroom"]})
+    short = make_tour(recognizer="oracle", tour_steps_per_room=1, name_after=10)
+    with pytest.raises(ValueError, match="never named on the tour"):
+        short.reset(seed=0, options={"goals": names})
+
+
+def test_a_recognizer_that_knows_nothing_gives_unknown_ids(make_tour):
+    env = make_tour(recognizer="none", panorama_width=64, panorama_height=16)
+    obs, info = env.reset(seed=0)
+    unknown = env.unwrapped.max_places
+    assert (info["tour"].place_id == -1).all() and obs["place_id"] == unknown
+    assert info["map"]["n_places"] == 0
+
+
+def test_seed_001_gets_its_forward_camera_and_bad_names_are_refused():
+    env = GuidedTourEnv(recognizer="nested", **SMALL)
+    try:
+        assert env.nav.camera == "forward"
+    finally:
+        env.close()
+    with pytest.raises(ValueError, match="unknown recognizer"):
+        GuidedTourEnv(recognizer="psychic", **SMALL)
+    with pytest.raises(ValueError, match="positive"):
+        GuidedTourEnv(recognizer="oracle", n_errands=0)

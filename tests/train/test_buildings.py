@@ -1,0 +1,22 @@
+import pytest
+
+import envs  # noqa: F401
+from train.buildings import TrainBuildings
+from train.make import make_env
+
+TASK = {"recognizer": "oracle", "n_rooms": 3, "n_errands": 1, "tour_steps_per_room": 40,
+        "errand_steps": 80}
+
+
+def test_training_buildings_come_from_the_train_split_and_change():
+    with pytest.raises(ValueError, match="not in the 'train' split"):
+        TrainBuildings([0, 2000], **TASK)
+    env = make_env("errands", scene_seeds=[0, 1, 2], episodes_per_building=1, **TASK)
+    try:
+        seen = set()
+        for seed in range(6):
+            env.reset(seed=seed)
+            seen.add(env.scene_seed)
+        assert len(seen) > 1 and seen <= {0, 1, 2}  # not one building over and over
+    finally:
+        env.close()

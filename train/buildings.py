@@ -1,0 +1,56 @@
+"""Training across buildings: a new ``train``-split building every few episodes."""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from typing import Any
+
+import gymnasium as gym
+import numpy as np
+
+import envs  # noqa: F401  (registers the environments)
+from envs.agents.hints import PlannerHints
+from envs.world.splits import check_split
+
+
+class TrainBuildings(gym.Env):
+    """A new building every ``episodes_per_building`` episodes, in turn from ``scene_seeds``.
+
+    Args:
+        scene_seeds: ``train``-split scene seeds (a seed of another split is a ``ValueError``:
+            agents never train where they are scored).
+        episodes_per_building: episodes before the next building is built.
+        **task: ``PlaceNav-GuidedTour-v0`` arguments (``recognizer``, ``n_rooms``...).
+    """
+
+    def __init__(self, scene_seeds: Sequence[int], episodes_per_building: int = 1,
+                 **task: Any) -> None:
+        check_split("train", scene_seeds)
+        self.scene_seeds = list(scene_seeds)
+        self.episodes_per_building = episodes_per_building
+        self.task = task
+        self._episodes = 0
+        self._env = self._make(self.scene_seeds[0])
+        self.observation_space = self._env.observation_space
+        self.action_space = self._env.action_space
+
+    def _make(self, scene_seed: int) -> gym.Env:
+        self.scene_seed = scene_seed  # the building of the current episode
+        return PlannerHints(gym.make("PlaceNav-GuidedTour-v0", scene_seed=scene_seed,
+                                     **self.task))
+
+    def reset(self, *, seed: int | None = None, options: dict[str, Any] | None = None
+              ) -> tuple[np.ndarray, dict[str, Any]]:
+        super().reset(seed=seed)
+        if self._episodes and self._episodes % self.episodes_per_building == 0:
+            self._env.close()
+            scene = self.scene_seeds[int(self.np_random.integers(len(self.scene_seeds)))]
+            self._env = self._make(scene)
+        self._episodes += 1
+        return self._env.reset(seed=int(self.np_random.integers(2**31)), options=options)
+
+    def step(self, action: np.ndarray) -> tuple[np.ndarray, float, bool, bool, dict[str, Any]]:
+        return self._env.step(action)
+
+    def close(self) -> None:
+        self._env.close()
