@@ -1,8 +1,10 @@
 """The wheel a user installs: built from the repository, installed into a fresh virtual
 environment and used from another directory, it makes ``PlaceNav-v0`` and runs
 ``placeclust tour``, ``placeclust cluster`` and the closed loop, ``placeclust errands`` with the
-planner and the learned agent (``docs/design.md``, "Packaging")."""
+planner, the learned agent and a recognizer of the user's own (``docs/design.md``,
+"Packaging")."""
 
+import json
 import shutil
 import subprocess
 import sys
@@ -84,3 +86,11 @@ def test_the_installed_wheel_works_outside_the_repository(wheel, tmp_path):
                      "--recognizer", "oracle", "--agent", agent, "--goals-per-scene", "1",
                      "--json", f"{agent}.json")
         assert "success_rate=" in scores and (work / f"{agent}.json").is_file()
+    # ... and a recognizer of the user's own, from a module in the folder they work in
+    shutil.copy(ROOT / "examples" / "tiny_recognizer.py", work / "mine.py")
+    scores = run(placeclust, "errands", "--scene-seeds", "0", "--rooms", "3", "--recognizer",
+                 "mine:HaarPlaces", "--param", "threshold=0.8", "--goals-per-scene", "1",
+                 "--tour-steps-per-room", "40", "--json", "mine.json")
+    mine = json.loads((work / "mine.json").read_text())
+    assert "success_rate=" in scores
+    assert mine["buildings"][0]["recognizer_params"] == {"threshold": 0.8}

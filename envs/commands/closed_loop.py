@@ -7,6 +7,12 @@ ranks recognizers by what their maps are worth to an agent.
 
     placeclust errands --split test --rooms 6 --recognizer panorama \\
         --goals-per-scene 5 --seed 0 --json runs/unseen.json
+    placeclust errands --split val --recognizer mypackage.module:MyRecognizer \\
+        [--preset panorama] [--param threshold=0.8]       # a recognizer of your own
+
+A recognizer of your own is checked before any building is toured: a path that does not load,
+a class that is not an online recognizer or fails :func:`placeclust.checks.check_recognizer`
+on the given parameters stops the command with one line of error (exit status 2).
 
 Examples:
     >>> from envs.commands.closed_loop import run_scene
@@ -32,12 +38,15 @@ import numpy as np
 
 from placeclust import __version__
 from placeclust.atomic import write_atomic
+from placeclust.checks import check_recognizer
+from placeclust.presets import PRESETS
 from placeclust.progress import progress as progress_bar
+from placeclust.runner import literal_params, recognizer_class
 
 from ..agents import hints, teach_repeat, topological
 from ..agents.teach_repeat import TourPlanner
 from ..tasks import tour
-from ..tasks.guided_tour import RECOGNIZERS, check_recognizer_name
+from ..tasks.guided_tour import RECOGNIZERS, check_recognizer_name, make_recognizer
 from ..world.splits import add_scope_arguments, scope_seeds
 from ..world.textures import ASSETS
 from .pool import run_all
@@ -50,16 +59,19 @@ POLICY = ASSETS / "policies" / "errands" / "ppo_errands.zip"
 
 def run_scene(scene_seed: int, n_rooms: int = 6, recognizer: str = "panorama",
               agent: str = "planner", goals: int = 5, seed: int = 0,
-              policy: str | Path | None = None, **task: Any) -> dict[str, Any]:
+              policy: str | Path | None = None,
+              recognizer_params: dict[str, Any] | None = None, **task: Any) -> dict[str, Any]:
     """One guided tour of building ``scene_seed`` and ``goals`` errands; the outcome.
 
     Args:
         scene_seed, n_rooms: the building.
-        recognizer: one of :data:`~envs.tasks.guided_tour.RECOGNIZERS`.
+        recognizer: one of :data:`~envs.tasks.guided_tour.RECOGNIZERS`, or
+            ``package.module:Class`` (:func:`~envs.tasks.guided_tour.make_recognizer`).
         agent: one of :data:`ERRAND_AGENTS`.
         goals: errands after the tour.
         seed: the episode's seed (with the scene seed: the tour's route and the errands' goals).
         policy: the ``ppo`` agent's policy (default: the shipped one).
+        recognizer_params: the recognizer's constructor arguments.
         **task: more ``PlaceNav-GuidedTour-v0`` arguments.
 
     Returns:
@@ -73,7 +85,8 @@ def run_scene(scene_seed: int, n_rooms: int = 6, recognizer: str = "panorama",
     model = _load_policy(Path(policy or POLICY)) if agent == "ppo" else None
     start = time.perf_counter()
     env = gym.make("PlaceNav-GuidedTour-v0", recognizer=recognizer, scene_seed=scene_seed,
-                   n_rooms=n_rooms, n_errands=goals, **task)
+                   n_rooms=n_rooms, n_errands=goals, recognizer_params=recognizer_params,
+                   **task)
     if model is not None:  # the learned agent sees the planner's hints and corrects its action
         env = hints.PlannerHints(env, seed)
     try:
@@ -86,7 +99,8 @@ def run_scene(scene_seed: int, n_rooms: int = 6, recognizer: str = "panorama",
     finally:
         env.close()
     errands = step_info["errands"]
-    return {"scene_seed": scene_seed, "recognizer": recognizer, "agent": agent,
+    return {"scene_seed": scene_seed, "recognizer": recognizer,
+            "recognizer_params": dict(recognizer_params or {}), "agent": agent,
             "success_rate": float(np.mean([e["success"] for e in errands])),
             "spl": float(np.mean([e["spl"] for e in errands])),
             "mean_length": float(np.mean([e["steps"] for e in errands])),
@@ -135,13 +149,35 @@ COST = {"panorama": 0, "nested": 1, "panorama-orb": 2, "random": 3, "none": 4, "
 AGENT_SOURCES = (sys.modules[__name__], teach_repeat, topological, hints, tour)
 
 
+def check_closed_loop_recognizer(name: str, params: dict[str, Any] | None = None) -> None:
+    """Check a recognizer before any building is toured, so a bad one costs no minutes.
+
+    A name of :data:`~envs.tasks.guided_tour.RECOGNIZERS` is built once with ``params``; a
+    ``package.module:Class`` must load, be online and pass
+    :func:`placeclust.checks.check_recognizer` with ``params``.
+
+    Raises:
+        ValueError: what is wrong, in one line.
+    """
+    make_recognizer(name, 6, params=params)
+    if ":" in name:
+        try:
+            check_recognizer(recognizer_class(name), params)
+        except AssertionError as exc:
+            raise ValueError(f"{name} is not a recognizer placeclust can run: {exc}") from exc
+
+
 def agent_fingerprint(job: dict[str, Any]) -> str:
-    """A hash of what drives a job's agent: :data:`AGENT_SOURCES` and, for ``ppo``, the
-    policy file. A planner edited or a policy trained again within one version of placeclust
+    """A hash of what drives a job's agent: :data:`AGENT_SOURCES`, for ``ppo`` the policy
+    file, and for a ``package.module:Class`` recognizer its module's source. A planner edited,
+    a policy trained again or a user's recognizer changed within one version of placeclust
     would otherwise be scored by the rows its predecessor left in ``OUT/runs/``."""
     digest = hashlib.sha256()
-    for module in AGENT_SOURCES:
-        digest.update(Path(inspect.getfile(module)).read_bytes())
+    sources = [inspect.getfile(module) for module in AGENT_SOURCES]
+    if ":" in job.get("recognizer", ""):
+        sources.append(inspect.getfile(recognizer_class(job["recognizer"])))
+    for source in sources:
+        digest.update(Path(source).read_bytes())
     if job["agent"] == "ppo":
         policy = Path(job.get("policy") or POLICY)
         if policy.is_file():  # a missing one is reported by the job itself
@@ -149,19 +185,35 @@ def agent_fingerprint(job: dict[str, Any]) -> str:
     return digest.hexdigest()[:16]
 
 
+#: the fields a job's file name spells out; any other is hashed into it
+_KEY_FIELDS = frozenset({"scene_seed", "n_rooms", "recognizer", "agent", "goals", "seed",
+                         "policy"})
+
+
 def job_key(job: dict[str, Any]) -> str:
     """The file name of a job's result: everything that changes it."""
     policy = f"-{Path(job['policy']).stem}" if job.get("policy") else ""
-    return (f"{job['recognizer']}-{job['agent']}{policy}-scene{job['scene_seed']}"
+    extra = {k: v for k, v in job.items() if k not in _KEY_FIELDS}
+    if extra:  # recognizer_params, tour length...: a short hash, values need not make a name
+        text = json.dumps(extra, sort_keys=True, default=repr)
+        policy += f"-params{hashlib.sha256(text.encode()).hexdigest()[:8]}"
+    recognizer = job["recognizer"].replace(":", "-")
+    return (f"{recognizer}-{job['agent']}{policy}-scene{job['scene_seed']}"
             f"-rooms{job['n_rooms']}-goals{job['goals']}-seed{job['seed']}")
 
 
 def make_jobs(scene_seeds: list[int], recognizers: list[str], n_rooms: int, agent: str,
-              goals: int, seed: int, policy: Path | None = None) -> list[dict[str, Any]]:
-    """One :func:`run_scene` job per recognizer and building."""
+              goals: int, seed: int, policy: Path | None = None,
+              params: dict[str, dict[str, Any]] | None = None,
+              **task: Any) -> list[dict[str, Any]]:
+    """One :func:`run_scene` job per recognizer and building; ``params`` maps a recognizer to
+    its constructor arguments, ``task`` is more ``PlaceNav-GuidedTour-v0`` arguments."""
     extra = {"policy": str(policy)} if policy else {}
+    params = params or {}
     return [{"scene_seed": s, "n_rooms": n_rooms, "recognizer": r, "agent": agent,
-             "goals": goals, "seed": seed, **extra} for r in recognizers for s in scene_seeds]
+             "goals": goals, "seed": seed, **extra, **task,
+             **({"recognizer_params": params[r]} if params.get(r) else {})}
+            for r in recognizers for s in scene_seeds]
 
 
 def run_jobs(jobs: list[dict[str, Any]], out: Path | None = None, workers: int = 1,
@@ -206,31 +258,73 @@ def _run_job(job: dict[str, Any]) -> dict[str, Any]:
     return run_scene(**job)
 
 
-def main(argv: list[str] | None = None, prog: str = "placeclust errands"
-         ) -> int:
-    """``placeclust errands ...``: one recognizer, one agent, a split."""
+def add_recognizer_arguments(p: argparse.ArgumentParser, many: bool) -> None:
+    """``--recognizer`` (``--recognizers`` if ``many``), ``--preset`` and ``--param``."""
+    names = ", ".join(RECOGNIZERS)
+    if many:
+        p.add_argument("--recognizers", nargs="+", default=list(RECOGNIZERS), metavar="NAME",
+                       help=f"{names} (default: all), or package.module:Class")
+    else:
+        p.add_argument("--recognizer", required=True, metavar="NAME",
+                       help=f"one of {names}, or package.module:Class for an online "
+                       "recognizer of your own (placeclust.checks)")
+    p.add_argument("--preset", choices=sorted(PRESETS),
+                   help="constructor arguments of a named configuration, for a "
+                   "package.module:Class recognizer (e.g. placeclust.online:OnlinePlaceClustering)")
+    p.add_argument("--param", action="append", metavar="NAME=VALUE",
+                   help="a constructor argument of a package.module:Class recognizer "
+                   "(repeatable; over the preset's), e.g. threshold=0.8 or features=orb")
 
-    p = argparse.ArgumentParser(prog=prog,
-                                description=__doc__,
+
+def recognizer_params(names: list[str], preset: str | None, param: list[str] | None
+                      ) -> dict[str, dict[str, Any]]:
+    """The constructor arguments of each recognizer named, checked before any job runs:
+    ``--preset`` and ``--param`` go to the ``package.module:Class`` ones.
+
+    Raises:
+        ValueError: a recognizer that does not load or check, or options with no recognizer
+            of your own to take them.
+    """
+    given = {**(PRESETS[preset] if preset else {}), **literal_params(param)}
+    own = [n for n in names if ":" in n]
+    if given and not own:
+        raise ValueError("--preset and --param are for a package.module:Class recognizer; "
+                         f"{names} are built in (their configurations are fixed)")
+    params = {n: dict(given) if ":" in n else {} for n in names}
+    for name in names:
+        check_closed_loop_recognizer(name, params[name])
+    return params
+
+
+def main(argv: list[str] | None = None, prog: str = "placeclust errands") -> int:
+    """``placeclust errands ...``: one recognizer, one agent, a split; the exit status."""
+    p = argparse.ArgumentParser(prog=prog, description=__doc__,
                                 formatter_class=argparse.RawDescriptionHelpFormatter)
-    p.add_argument("--task", choices=("unseen",), default="unseen")
+    p.add_argument("--task", choices=("unseen",), default="unseen",
+                   help=argparse.SUPPRESS)  # for python -m train.evaluate --task unseen
     add_scope_arguments(p, n_scenes=8)
     p.add_argument("--rooms", type=int, default=6)
-    p.add_argument("--recognizer", choices=RECOGNIZERS, required=True)
+    add_recognizer_arguments(p, many=False)
     p.add_argument("--agent", choices=ERRAND_AGENTS, default="planner")
     p.add_argument("--policy", type=Path, help="the ppo agent's policy (default: shipped)")
     p.add_argument("--goals-per-scene", type=int, default=5)
+    p.add_argument("--tour-steps-per-room", type=int, default=150,
+                   help="the guided tour's length per room (PlaceNav-GuidedTour-v0's)")
     p.add_argument("--seed", type=int, default=0)
     p.add_argument("--json", type=Path, help="also write the scores here")
     p.add_argument("--workers", type=int, default=1)
     p.add_argument("--out", type=Path, help="keep each building's result here and resume")
     args = p.parse_args(argv)
     seeds = scope_seeds(args, p)
-    if args.goals_per_scene < 1:
-        p.error(f"--goals-per-scene must be positive, got {args.goals_per_scene}")
-    jobs = make_jobs(seeds, [args.recognizer], args.rooms, args.agent, args.goals_per_scene,
-                     args.seed, args.policy)
+    if args.goals_per_scene < 1 or args.tour_steps_per_room < 1:
+        p.error("--goals-per-scene and --tour-steps-per-room must be positive, got "
+                f"{args.goals_per_scene} and {args.tour_steps_per_room}")
     try:
+        params = recognizer_params([args.recognizer], args.preset, args.param)
+        task = ({} if args.tour_steps_per_room == 150
+                else {"tour_steps_per_room": args.tour_steps_per_room})
+        jobs = make_jobs(seeds, [args.recognizer], args.rooms, args.agent,
+                         args.goals_per_scene, args.seed, args.policy, params, **task)
         rows = run_jobs(jobs, args.out, args.workers)
     except (ValueError, FileNotFoundError) as e:
         print(f"error: {e}", file=sys.stderr)

@@ -1,14 +1,17 @@
 """The closed-loop leaderboard: recognizers ranked by errand success in buildings never seen.
 
     placeclust leaderboard --split test --rooms 6 --goals-per-scene 5 --seed 0 \\
-        --out runs/leaderboard [--recognizers oracle online ...] [--agent planner] \\
+        --out runs/leaderboard [--recognizers oracle panorama mypackage.module:Mine ...] \\
+        [--preset NAME] [--param NAME=VALUE] [--agent planner] \\
         [--workers N] [--executor process|ray] [--docs docs/benchmarks.md]
 
 Every recognizer maps every building of the split from a guided tour, and the same agent
 (:mod:`envs.agents.teach_repeat` by default) runs the same errands on each map
 (:func:`envs.commands.closed_loop.run_scene`). The table puts task success beside the same maps'
 open-loop precision, NMI and places per room, and ``success_vs_nmi.png`` plots one against the
-other.
+other. A ``package.module:Class`` among the recognizers is one of your own, with ``--preset``
+and ``--param`` as its constructor arguments; it is checked before any job starts.
+
 Each (recognizer, building) is one job on a ``spawn`` process pool or Ray; its result is kept in
 ``OUT/runs/``, so an interrupted run resumes where it stopped; a kept result is used again only
 if the agent that made it is the same (:func:`~envs.commands.closed_loop.agent_fingerprint`).
@@ -25,9 +28,15 @@ from typing import Any
 
 from placeclust.docs_section import write_section
 
-from ..tasks.guided_tour import RECOGNIZERS
 from ..world.splits import add_scope_arguments, scope_seeds
-from .closed_loop import ERRAND_AGENTS, make_jobs, run_jobs, summarize
+from .closed_loop import (
+    ERRAND_AGENTS,
+    add_recognizer_arguments,
+    make_jobs,
+    recognizer_params,
+    run_jobs,
+    summarize,
+)
 
 
 def leaderboard(summaries: list[dict[str, Any]]) -> str:
@@ -81,7 +90,7 @@ def main(argv: list[str] | None = None, prog: str = "placeclust leaderboard"
                                 formatter_class=argparse.RawDescriptionHelpFormatter)
     add_scope_arguments(p, n_scenes=8, default_split="test")
     p.add_argument("--rooms", type=int, default=6)
-    p.add_argument("--recognizers", nargs="+", choices=RECOGNIZERS, default=list(RECOGNIZERS))
+    add_recognizer_arguments(p, many=True)
     p.add_argument("--agent", choices=ERRAND_AGENTS, default="planner")
     p.add_argument("--policy", type=Path, help="the ppo agent's policy (default: shipped)")
     p.add_argument("--goals-per-scene", type=int, default=5)
@@ -94,9 +103,10 @@ def main(argv: list[str] | None = None, prog: str = "placeclust leaderboard"
     argv = sys.argv[1:] if argv is None else list(argv)
     args = p.parse_args(argv)
     seeds = scope_seeds(args, p)
-    jobs = make_jobs(seeds, args.recognizers, args.rooms, args.agent, args.goals_per_scene,
-                     args.seed, args.policy)
     try:
+        params = recognizer_params(args.recognizers, args.preset, args.param)
+        jobs = make_jobs(seeds, args.recognizers, args.rooms, args.agent,
+                         args.goals_per_scene, args.seed, args.policy, params)
         rows = run_jobs(jobs, args.out, args.workers, args.executor)
     except (ValueError, FileNotFoundError) as e:
         print(f"error: {e}", file=sys.stderr)

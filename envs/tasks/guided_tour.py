@@ -24,6 +24,7 @@ from __future__ import annotations
 
 import math
 import string
+from collections.abc import Mapping
 from dataclasses import dataclass
 from typing import Any
 
@@ -35,6 +36,7 @@ from placeclust import PANORAMA, PANORAMA_ORB, OnlinePlaceClustering
 from placeclust.metrics import score
 from placeclust.nested import NestedMapper
 from placeclust.null import NoPlaces, RandomPlaces
+from placeclust.runner import check_params, make, recognizer_class
 
 from .goals import GoalRoom, NavTask
 from .place_id import PlaceIdWrapper, Recognizer
@@ -53,9 +55,31 @@ RENAMED = {"online": "panorama", "online-orb": "panorama-orb"}
 NAME_CHARSET = frozenset(string.ascii_lowercase + string.digits + " -_")
 
 
-def make_recognizer(name: str, n_rooms: int, max_places: int = 64) -> Recognizer | None:
-    """A fresh recognizer of :data:`RECOGNIZERS` (``None`` for ``oracle``, the true rooms)."""
+def make_recognizer(name: str, n_rooms: int, max_places: int = 64,
+                    params: Mapping[str, Any] | None = None) -> Recognizer | None:
+    """A fresh recognizer for the closed loop (``None`` for ``oracle``, the true rooms).
+
+    Args:
+        name: one of :data:`RECOGNIZERS`, or ``package.module:Class``, an online recognizer of
+            your own (``learn_predict_one``, ``n_places``, ``graph``; see
+            :mod:`placeclust.checks`), loaded as ``placeclust cluster --algo`` loads it.
+        n_rooms: the building's rooms (``random`` draws ids from twice as many).
+        max_places: the cap of ``panorama`` and ``panorama-orb``'s maps.
+        params: a module path's constructor arguments (``features`` included). A name is one
+            configuration, so it takes none: for another, name the class with the arguments,
+            e.g. ``placeclust.online:OnlinePlaceClustering`` with ``PANORAMA``'s and yours.
+
+    Raises:
+        ValueError: an unknown name, a path that does not load or is not an online recognizer,
+            or parameters with a name.
+    """
+    params = dict(params or {})
+    if ":" in name:
+        return _own_recognizer(name, params)
     check_recognizer_name(name)
+    if params:
+        raise ValueError(f"{name!r} is one configuration and takes no parameters, got "
+                         f"{sorted(params)}; give package.module:Class with them instead")
     if name == "oracle":
         return None
     if name == "panorama":
@@ -69,12 +93,30 @@ def make_recognizer(name: str, n_rooms: int, max_places: int = 64) -> Recognizer
     return NoPlaces()
 
 
+def _own_recognizer(path: str, params: dict[str, Any]) -> Recognizer:
+    cls = recognizer_class(path)  # a ValueError that names a path or class that does not load
+    if not hasattr(cls, "learn_predict_one"):
+        raise ValueError(f"{path} is an offline recognizer (fit_predict); the closed loop "
+                         "needs an online one (learn_predict_one)")
+    check_params(path, [k for k in params if k != "features"])
+    model = make(path, **params)
+    if not isinstance(model, Recognizer):
+        raise ValueError(f"{path} lacks what the closed loop reads of a recognizer: "
+                         "learn_predict_one, n_places and graph")
+    return model
+
+
 def check_recognizer_name(name: str) -> None:
-    """A ``ValueError`` naming the choices if ``name`` is not one of :data:`RECOGNIZERS`."""
+    """A ``ValueError`` naming the choices if ``name`` is neither one of :data:`RECOGNIZERS` nor
+    a ``package.module:Class`` that loads."""
     if name in RECOGNIZERS:
         return
+    if ":" in name:
+        recognizer_class(name)
+        return
     hint = f" ('{name}' was renamed '{RENAMED[name]}' in 0.13.0)" if name in RENAMED else ""
-    raise ValueError(f"unknown recognizer {name!r}; choose one of {RECOGNIZERS}{hint}")
+    raise ValueError(f"unknown recognizer {name!r}; choose one of {RECOGNIZERS} or give "
+                     f"package.module:Class{hint}")
 
 
 @dataclass(eq=False)
@@ -166,9 +208,11 @@ class GuidedTourEnv(NavTask, gym.utils.EzPickle):
     ``errands`` (all of them).
 
     ## Arguments
-    ``recognizer`` (a name of :data:`RECOGNIZERS` or a recognizer object, default ``"panorama"``),
-    ``n_errands`` (5), ``errand_steps`` (500: 50 s, half again the longest shortest route of a
-    6-room building at the planner's pace), ``tour_steps_per_room`` (150: the tour runs
+    ``recognizer`` (a name of :data:`RECOGNIZERS`, a ``package.module:Class`` of your own or a
+    recognizer object, default ``"panorama"``), ``recognizer_params`` (a path's constructor
+    arguments, see :func:`make_recognizer`), ``n_errands`` (5), ``errand_steps``
+    (500: 50 s, half again the longest shortest route of a 6-room building at the planner's
+    pace), ``tour_steps_per_room`` (150: the tour runs
     ``n_rooms`` times that, longer if a room is still unnamed, at most three times that),
     ``name_after`` (10), ``max_places`` (64), ``success_reward`` (10), ``step_cost`` (0.01),
     ``shaping`` (1 per metre), ``observe_image`` (False), ``render_mode``, and any argument of
@@ -180,17 +224,20 @@ class GuidedTourEnv(NavTask, gym.utils.EzPickle):
 
     ## Version History
     - v0: first version. Since placeclust 0.13.0 the recognizers ``online`` and ``online-orb``
-      are named ``panorama`` and ``panorama-orb``, after their presets; episodes are the same.
+      are named ``panorama`` and ``panorama-orb``, after their presets; episodes are the same;
+      ``recognizer`` also takes a ``package.module:Class`` with ``recognizer_params``.
     """
 
     def __init__(self, recognizer: str | Recognizer = "panorama", n_errands: int = 5,
                  errand_steps: int = 500, tour_steps_per_room: int = 150, name_after: int = 10,
                  max_places: int = 64, success_reward: float = 10.0, step_cost: float = 0.01,
                  shaping: float = 1.0, observe_image: bool = False,
-                 render_mode: str | None = None, n_rooms: int = 6, **world: Any) -> None:
+                 render_mode: str | None = None, n_rooms: int = 6,
+                 recognizer_params: Mapping[str, Any] | None = None, **world: Any) -> None:
         # pickle and deepcopy rebuild the env from its arguments, as PlaceNav-v0 does
         gym.utils.EzPickle.__init__(
-            self, recognizer=recognizer, n_errands=n_errands, errand_steps=errand_steps,
+            self, recognizer=recognizer, recognizer_params=recognizer_params,
+            n_errands=n_errands, errand_steps=errand_steps,
             tour_steps_per_room=tour_steps_per_room, name_after=name_after,
             max_places=max_places, success_reward=success_reward, step_cost=step_cost,
             shaping=shaping, observe_image=observe_image, render_mode=render_mode,
@@ -199,7 +246,10 @@ class GuidedTourEnv(NavTask, gym.utils.EzPickle):
             raise ValueError("n_errands, errand_steps, tour_steps_per_room and name_after must "
                              f"be positive, got {n_errands}, {errand_steps}, "
                              f"{tour_steps_per_room}, {name_after}")
-        model = (make_recognizer(recognizer, n_rooms, max_places)
+        if recognizer_params and not isinstance(recognizer, str):
+            raise ValueError("recognizer_params go with a package.module:Class recognizer, "
+                             "not with a recognizer object")
+        model = (make_recognizer(recognizer, n_rooms, max_places, recognizer_params)
                  if isinstance(recognizer, str) else recognizer)
         self.oracle = model is None
         world.setdefault("camera", "forward" if recognizer == "nested" else "panorama")

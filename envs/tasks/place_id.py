@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import copy
 import time
-from typing import Any, Protocol, SupportsFloat
+from typing import Any, Protocol, SupportsFloat, runtime_checkable
 
 import gymnasium as gym
 import networkx as nx
@@ -16,6 +16,7 @@ from placeclust import OnlinePlaceClustering
 from .tour import building
 
 
+@runtime_checkable
 class Recognizer(Protocol):
     """What :class:`PlaceIdWrapper` needs of a recognizer (any online one of ``placeclust``)."""
 

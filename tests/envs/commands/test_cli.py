@@ -163,6 +163,6 @@ def test_whole_commands_run_under_placeclust(capsys, tmp_path):
     assert scores.is_file()
     with pytest.raises(SystemExit) as exc:  # the closed loop's old name for PANORAMA
         main(["errands", "--scene-seeds", "0", "--recognizer", "online"])
-    assert exc.value.code == 2 and "usage: placeclust errands" in capsys.readouterr().err
+    assert exc.value.code == 2 and "'online' was renamed 'panorama'" in capsys.readouterr().err
     listed = build_parser().format_help()
     assert all(name in listed for name in COMMANDS)

@@ -60,5 +60,40 @@ def test_evaluate_unseen_writes_the_contracted_scores(tmp_path, capsys):
     for key in ("success_rate", "spl", "mean_length", "precision", "nmi", "n_places"):
         assert math.isfinite(scores[key])
     assert "success_rate=" in capsys.readouterr().out
-    with pytest.raises(SystemExit):  # the test split is for reporting: seeds are checked
-        evaluate.main(["--task", "unseen", "--split", "test", "--recognizer", "psychic"])
+    # a recognizer that is not one is named before any building of the split is toured
+    assert evaluate.main(["--task", "unseen", "--split", "test", "--recognizer", "psychic"]) == 2
+    assert "unknown recognizer 'psychic'" in capsys.readouterr().err
+
+
+def test_a_recognizer_of_your_own_runs_in_the_closed_loop(tmp_path):
+    from envs.commands.closed_loop import run_scene
+
+    row = run_scene(0, n_rooms=3, recognizer="examples.tiny_recognizer:HaarPlaces", goals=1,
+                    seed=0, recognizer_params={"threshold": 0.8}, tour_steps_per_room=40)
+    assert row["recognizer_params"] == {"threshold": 0.8} and len(row["errands"]) == 1
+    assert row["n_places"] >= 1 and 0.0 <= row["precision"] <= 1.0
+
+
+@pytest.mark.parametrize(("argv", "message"), [
+    (["--recognizer", "nosuchpackage.mod:Thing"], "cannot import 'nosuchpackage.mod'"),
+    (["--recognizer", "placeclust.kunion:KAdjacentUnion"], "needs an online one"),
+    (["--recognizer", "examples.tiny_recognizer:HaarPlaces", "--param", "radius=2"],
+     "radius"),
+    (["--recognizer", "panorama", "--param", "scale=1.0"], "are built in"),
+])
+def test_a_bad_recognizer_stops_the_errands_before_any_tour(argv, message, tmp_path, capsys):
+    code = closed_loop.main(["--scene-seeds", "0", "--rooms", "3", "--out", str(tmp_path),
+                             *argv])
+    err = capsys.readouterr().err
+    assert code == 2 and message in err and len(err.strip().splitlines()) == 1
+    assert not (tmp_path / "runs").exists() or not any((tmp_path / "runs").iterdir())
+
+
+def test_a_job_file_names_what_changes_it_and_hashes_the_rest():
+    plain = {"scene_seed": 2000, "n_rooms": 6, "recognizer": "panorama", "agent": "planner",
+             "goals": 5, "seed": 0}
+    assert closed_loop.job_key(plain) == "panorama-planner-scene2000-rooms6-goals5-seed0"
+    own = {**plain, "recognizer": "mine:Places", "recognizer_params": {"threshold": 0.8}}
+    other = {**own, "recognizer_params": {"threshold": 0.9}}
+    assert closed_loop.job_key(own) != closed_loop.job_key(other)
+    assert ":" not in closed_loop.job_key(own)
