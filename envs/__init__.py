@@ -1,9 +1,14 @@
 """Simulated buildings for place recognition: the ``PlaceNav`` Gymnasium environments.
 
 Importing this package registers ``PlaceNav-v0``, ``PlaceNav-ReachRoom-v0`` and
-``PlaceNav-GuidedTour-v0`` and, unless the
-user has chosen a backend, selects MuJoCo's headless EGL renderer (``MUJOCO_GL=egl``), which
-must happen before ``mujoco`` is imported anywhere.
+``PlaceNav-GuidedTour-v0`` and, unless the user has chosen a backend, selects MuJoCo's
+headless EGL renderer (``MUJOCO_GL=egl``), which must happen before ``mujoco`` is imported
+anywhere.
+
+Four subpackages by role, each importing only those before it: ``world`` (the building and
+how it is drawn), ``tasks`` (the Gymnasium envs and wrappers), ``agents`` (the planners that
+act on a recognizer's map) and ``commands`` (the ``placeclust`` command); ``docs/design.md``
+maps every module.
 
 In a clone this package is ``envs``; a wheel installs it as ``placeclust_envs`` (a top-level
 ``envs`` would shadow the PyPI package of that name). Every import inside it is relative, so

@@ -20,6 +20,7 @@ from placeclust.kunion import KAdjacentUnion
 from placeclust.metrics import latency_summary, score
 from placeclust.nested import NestedMapper
 from placeclust.online import OnlinePlaceClustering
+from placeclust.presets import PRESETS
 from placeclust.stream import StreamPlaces
 
 ALGORITHMS = ("online", "nested", "kunion", "wpgma", "kmeans", "stream")
@@ -141,6 +142,12 @@ def literal_params(items: list[str] | None) -> dict[str, object]:
         except (ValueError, SyntaxError):
             params[name] = text
     return params
+
+
+def preset_params(preset: str | None, items: list[str] | None) -> dict[str, object]:
+    """The arguments of recognizer preset ``preset`` (:data:`~placeclust.presets.PRESETS`, or
+    none), with ``NAME=VALUE`` ``items`` (:func:`literal_params`) overriding them."""
+    return {**(PRESETS[preset] if preset else {}), **literal_params(items)}
 
 
 def make(algo: str, features: str = "sift", **params: object) -> object:

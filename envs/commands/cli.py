@@ -19,7 +19,7 @@ import numpy as np
 from placeclust import PRESETS
 from placeclust.docs_section import write_section
 from placeclust.features import FEATURES
-from placeclust.runner import ALGORITHMS, check_params, evaluate, literal_params, run
+from placeclust.runner import ALGORITHMS, check_params, evaluate, preset_params, run
 
 from ..world.conditions import LIGHTING
 from ..world.splits import SPLITS, check_split, scenes, split_of
@@ -84,11 +84,6 @@ def tour_scene(path: str) -> dict[str, object]:
             return camera
         seed = int(z["scene_seed"])
     return {"scene_seed": seed, "split": split_of(seed), **camera}
-
-
-def preset_params(preset: str, items: list[str] | None) -> dict[str, object]:
-    """The arguments of recognizer preset ``preset``, with ``--param`` items overriding them."""
-    return {**PRESETS[preset], **literal_params(items)}
 
 
 def cmd_cluster(args: argparse.Namespace) -> None:

@@ -41,7 +41,7 @@ from placeclust.atomic import write_atomic
 from placeclust.checks import check_recognizer
 from placeclust.presets import PRESETS
 from placeclust.progress import progress as progress_bar
-from placeclust.runner import literal_params, recognizer_class
+from placeclust.runner import preset_params, recognizer_class
 
 from ..agents import hints, teach_repeat, topological
 from ..agents.teach_repeat import TourPlanner
@@ -285,7 +285,7 @@ def recognizer_params(names: list[str], preset: str | None, param: list[str] | N
         ValueError: a recognizer that does not load or check, or options with no recognizer
             of your own to take them.
     """
-    given = {**(PRESETS[preset] if preset else {}), **literal_params(param)}
+    given = preset_params(preset, param)
     own = [n for n in names if ":" in n]
     if given and not own:
         raise ValueError("--preset and --param are for a package.module:Class recognizer; "
