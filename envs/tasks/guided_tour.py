@@ -36,7 +36,7 @@ from placeclust import PANORAMA, PANORAMA_ORB, OnlinePlaceClustering
 from placeclust.metrics import score
 from placeclust.nested import NestedMapper
 from placeclust.null import NoPlaces, RandomPlaces
-from placeclust.runner import check_params, make, recognizer_class
+from placeclust.runner import check_params, is_offline, make, recognizer_class
 
 from .goals import GoalRoom, NavTask
 from .place_id import PlaceIdWrapper, Recognizer
@@ -95,7 +95,7 @@ def make_recognizer(name: str, n_rooms: int, max_places: int = 64,
 
 def _own_recognizer(path: str, params: dict[str, Any]) -> Recognizer:
     cls = recognizer_class(path)  # a ValueError that names a path or class that does not load
-    if not hasattr(cls, "learn_predict_one"):
+    if is_offline(cls):
         raise ValueError(f"{path} is an offline recognizer (fit_predict); the closed loop "
                          "needs an online one (learn_predict_one)")
     check_params(path, [k for k in params if k != "features"])
