@@ -67,10 +67,13 @@ benchmarks: $(VENV)/.installed
 		--config train/hyperparams/ppo_proximity.yml --policies assets/policies/proximity
 	$(PY) -m train.evaluate --agent all --episodes 50 --seed 1000 $(DOCS) \
 		--config train/hyperparams/ppo_corridor.yml --policies assets/policies/corridor
-	$(VENV)/bin/placeclust leaderboard --split test --rooms 6 --goals-per-scene 5 --seed 0 \
-		--out runs/leaderboard $(DOCS)
-	$(VENV)/bin/placeclust leaderboard --split test --rooms 6 --goals-per-scene 5 --seed 0 \
-		--recognizers oracle panorama panorama-orb --agent ppo --out runs/leaderboard-ppo $(DOCS)
+	$(VENV)/bin/placeclust leaderboard --split val --n-scenes 8 --goals-per-scene 5 \
+		--recognizers oracle panorama panorama-orb random --out runs/pilot-val $(DOCS)
+	$(VENV)/bin/placeclust leaderboard --suite placenav-v1 --size quick --out runs/quick $(DOCS)
+	$(VENV)/bin/placeclust compare runs/quick/results.json runs/quick/results.json \
+		--a panorama --b panorama-orb $(DOCS)
+	$(VENV)/bin/placeclust leaderboard --suite placenav-v1 --size quick \
+		--recognizers oracle panorama panorama-orb --agent ppo --out runs/quick-ppo $(DOCS)
 
 # the benchmark matrix (envs/commands/bench.py): results.csv, results.md, precision.png, latency.png
 bench-quick: $(VENV)/.installed
@@ -96,10 +99,10 @@ train: $(VENV)/.installed
 eval: $(VENV)/.installed
 	$(PY) -m train.evaluate --agent all --episodes 50 --seed 1000
 
-# recognizers ranked by errand success after a guided tour of 8 test buildings (~20 minutes)
+# recognizers ranked by errand success on the frozen suite's test buildings (hours: see
+# docs/benchmarks.md for the cost; --size quick for a check)
 leaderboard: $(VENV)/.installed
-	$(VENV)/bin/placeclust leaderboard --split test --rooms 6 --goals-per-scene 5 --seed 0 \
-		--out runs/leaderboard
+	$(VENV)/bin/placeclust leaderboard --suite placenav-v1 --out runs/leaderboard
 
 # seed 001 on its paper's camera: Tables 2-3 and a second drive, 4 test buildings (~3 min)
 seed001: $(VENV)/.installed

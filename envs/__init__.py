@@ -1,7 +1,7 @@
 """Simulated buildings for place recognition: the ``PlaceNav`` Gymnasium environments.
 
 Importing this package registers ``PlaceNav-v0``, ``PlaceNav-ReachRoom-v0`` and
-``PlaceNav-GuidedTour-v0`` and, unless the user has chosen a backend, selects MuJoCo's
+``PlaceNav-GuidedTour-v1`` and, unless the user has chosen a backend, selects MuJoCo's
 headless EGL renderer (``MUJOCO_GL=egl``), which must happen before ``mujoco`` is imported
 anywhere.
 
@@ -39,11 +39,16 @@ from .tasks.place_nav import PlaceNavEnv  # noqa: E402
 from .tasks.reach_room import ReachRoomEnv  # noqa: E402
 
 # One registration per id, whichever name (envs, placeclust_envs) imported the package first.
-for _id, _entry, _steps in (("PlaceNav-v0", "tasks.place_nav:PlaceNavEnv", 500),
-                            ("PlaceNav-ReachRoom-v0", "tasks.reach_room:ReachRoomEnv", 300),
-                            # errands bound the episode: no step limit of its own
-                            ("PlaceNav-GuidedTour-v0", "tasks.guided_tour:GuidedTourEnv", None)):
+_TOUR = "tasks.guided_tour:GuidedTourEnv"
+for _id, _entry, _steps, _kwargs in (
+        ("PlaceNav-v0", "tasks.place_nav:PlaceNavEnv", 500, {}),
+        ("PlaceNav-ReachRoom-v0", "tasks.reach_room:ReachRoomEnv", 300, {}),
+        # errands bound the episode: no step limit of its own
+        ("PlaceNav-GuidedTour-v1", _TOUR, None, {}),
+        # v0 let an errand start a step from its goal; kept to reproduce figures made with it
+        ("PlaceNav-GuidedTour-v0", _TOUR, None, {"min_errand_distance": 0.0})):
     if _id not in registry:
-        register(id=_id, entry_point=f"{__name__}.{_entry}", max_episode_steps=_steps)
+        register(id=_id, entry_point=f"{__name__}.{_entry}", max_episode_steps=_steps,
+                 kwargs=_kwargs)
 
 __all__ = ["GuidedTourEnv", "PlaceIdWrapper", "PlaceNavEnv", "ReachRoomEnv"]

@@ -1,7 +1,8 @@
 """The recognizer protocol, as a battery of checks: run it first on a recognizer of your own.
 
-Modelled on river's estimator checks. A recognizer is a class whose constructor arguments are
-its parameters, and which is either *online* (``learn_predict_one(frame) -> int``,
+Modelled on river's estimator checks. The protocol itself, its required and optional parts,
+is :mod:`placeclust.protocol`: a recognizer is a class whose constructor arguments are its
+parameters, and which is either *online* (``learn_predict_one(frame) -> int``,
 ``predict_one(frame) -> int``, ``n_places``, and a networkx ``graph`` of its places) or
 *offline* (``fit_predict(frames) -> (T,) int``). Every built-in recognizer passes; the tests
 run the battery over each of them.
@@ -18,11 +19,19 @@ import copy
 import inspect
 import pickle
 from collections.abc import Callable, Mapping
+from typing import cast
 
 import networkx as nx
 import numpy as np
 
 from placeclust.online import UNKNOWN
+from placeclust.protocol import (
+    OfflineRecognizer,
+    OnlineRecognizer,
+    is_offline,
+    is_online,
+    resolve,
+)
 from placeclust.synthetic import places
 
 Check = Callable[[type, dict, np.ndarray], None]
@@ -43,8 +52,8 @@ def check_recognizer(cls: type, params: Mapping[str, object] | None = None,
     """
     params = dict(params or {})
     frames = places(3)[0] if frames is None else frames
-    online = hasattr(cls, "learn_predict_one")
-    assert online or hasattr(cls, "fit_predict"), (
+    online = is_online(cls)
+    assert online or is_offline(cls), (
         f"{cls.__name__} has neither learn_predict_one (online) nor fit_predict (offline)")
     checks = ONLINE_CHECKS if online else OFFLINE_CHECKS
     for check in (*COMMON_CHECKS, *checks):
@@ -56,11 +65,12 @@ def check_recognizer(cls: type, params: Mapping[str, object] | None = None,
 
 def learn(model: object, frames: np.ndarray) -> np.ndarray:
     """The places ``model`` gives ``frames``: online one at a time, offline all at once."""
-    if hasattr(model, "learn_predict_one"):
-        return np.array([int(model.learn_predict_one(f)) for f in frames])
-    assert hasattr(model, "fit_predict"), (  # check_recognizer checked that first
+    if is_online(model):
+        online = cast(OnlineRecognizer, model)
+        return np.array([int(online.learn_predict_one(f)) for f in frames])
+    assert is_offline(model), (  # check_recognizer checked that first
         f"{type(model).__name__} has neither learn_predict_one nor fit_predict")
-    return np.asarray(model.fit_predict(frames))
+    return np.asarray(cast(OfflineRecognizer, model).fit_predict(frames))
 
 
 def clone(model: object) -> object:
@@ -109,7 +119,7 @@ def check_invalid_frames_raise(cls: type, params: dict, frames: np.ndarray) -> N
     for frame in bad:
         model = cls(**params)
         try:
-            if hasattr(model, "learn_predict_one"):
+            if is_online(model):
                 model.learn_predict_one(frame)
             else:
                 model.fit_predict(np.stack([frame, frame]))
@@ -127,14 +137,19 @@ def check_instances_are_independent(cls: type, params: dict, frames: np.ndarray)
 
 
 def check_online_protocol(cls: type, params: dict, frames: np.ndarray) -> None:
-    """``predict_one`` names a place without learning; ``n_places`` and ``graph`` agree."""
+    """``predict_one`` names a place without learning; ``n_places`` and ``graph`` agree.
+
+    A recognizer that merges places (``resolve``, as consolidation does) is judged by the
+    places its ids resolve to now: a merged-away id is neither counted nor a node.
+    """
     model = cls(**params)
     labels = learn(model, frames)
+    given = set(resolve(model, labels).tolist()) - {UNKNOWN}
     n = model.n_places
     assert isinstance(n, int | np.integer), "n_places is not an int"
-    assert n == len(set(labels.tolist()) - {UNKNOWN}), "n_places differs from the places given"
+    assert n == len(given), "n_places differs from the places given"
     assert isinstance(model.graph, nx.Graph), "graph is not a networkx graph"
-    assert set(model.graph.nodes) <= set(range(n)), "graph has nodes that are not places"
+    assert set(model.graph.nodes) <= given, "graph has nodes that are not places"
     place = model.predict_one(frames[0])
     assert isinstance(place, int | np.integer) and model.n_places == n, "predict_one learnt"
 

@@ -40,8 +40,12 @@ class RandomPlaces:
         seed: seeds the draws; the same seed gives the same ids.
 
     A blank frame is :data:`~placeclust.online.UNKNOWN`, as for every recognizer; consecutive
-    frames with different ids join the two in :attr:`graph`.
+    frames with different ids join the two in :attr:`graph`. It never looks at a frame beyond
+    that, so it says ``reads_images = False`` and takes ``None`` for "no image": a simulator
+    need not render for it (the ids are the same).
     """
+
+    reads_images = False
 
     def __init__(self, n_ids: int = 8, hold: int = 10, seed: int = 0) -> None:
         if n_ids < 1 or hold < 1:
@@ -61,9 +65,9 @@ class RandomPlaces:
         """Ids given so far."""
         return self.graph.number_of_nodes()
 
-    def learn_predict_one(self, frame: np.ndarray) -> int:
+    def learn_predict_one(self, frame: np.ndarray | None) -> int:
         """The id of this stretch of frames, drawn when the stretch began."""
-        if not to_gray(frame).any():
+        if frame is not None and not to_gray(frame).any():
             return UNKNOWN
         if self._frames % self.hold == 0:
             draw = int(self._rng.integers(self.n_ids))
@@ -87,7 +91,10 @@ class RandomPlaces:
 
 class NoPlaces:
     """Answers :data:`~placeclust.online.UNKNOWN` for every frame: the recognizer that is not
-    there. An agent given its ids must find its way without them."""
+    there. An agent given its ids must find its way without them. Like :class:`RandomPlaces`
+    it does not read images (``reads_images = False``; ``None`` for a frame is allowed)."""
+
+    reads_images = False
 
     def __init__(self) -> None:
         self.graph = nx.Graph()
@@ -97,9 +104,10 @@ class NoPlaces:
         """Always 0."""
         return 0
 
-    def learn_predict_one(self, frame: np.ndarray) -> int:
+    def learn_predict_one(self, frame: np.ndarray | None) -> int:
         """:data:`~placeclust.online.UNKNOWN`, after checking ``frame`` like any recognizer."""
-        to_gray(frame)
+        if frame is not None:
+            to_gray(frame)
         return UNKNOWN
 
     def predict_one(self, frame: np.ndarray) -> int:

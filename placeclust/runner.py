@@ -21,6 +21,7 @@ from placeclust.metrics import latency_summary, score
 from placeclust.nested import NestedMapper
 from placeclust.online import OnlinePlaceClustering
 from placeclust.presets import PRESETS
+from placeclust.protocol import is_offline, is_online, resolve
 from placeclust.stream import StreamPlaces
 
 ALGORITHMS = ("online", "nested", "kunion", "wpgma", "kmeans", "stream")
@@ -77,11 +78,6 @@ def recognizer_class(algo: str) -> type:
     return cls
 
 
-def is_offline(cls: type) -> bool:
-    """Whether recognizers of ``cls`` see the whole sequence at once (``fit_predict``)."""
-    return not hasattr(cls, "learn_predict_one") and hasattr(cls, "fit_predict")
-
-
 def _load(path: str) -> type:
     import importlib
     import os
@@ -97,7 +93,7 @@ def _load(path: str) -> type:
     cls = getattr(module, name, None)
     if not isinstance(cls, type):
         raise ValueError(f"{module_name!r} has no class {name!r}")
-    if not (hasattr(cls, "learn_predict_one") or hasattr(cls, "fit_predict")):
+    if not (is_online(cls) or is_offline(cls)):
         raise ValueError(f"{path} is not a recognizer: it has neither learn_predict_one "
                          "(online) nor fit_predict (offline)")
     return cls
@@ -236,8 +232,7 @@ def _one_at_a_time(model: object, step: Callable[[np.ndarray], int], frames: np.
         labels[t] = step(frame)
         lat[t] = time.perf_counter() - start
         localized[t] = getattr(model, "last_was_keyframe", True)
-    if hasattr(model, "resolve"):  # ids of places merged since, as the final map holds them
-        labels = model.resolve(labels)
+    labels = resolve(model, labels)  # ids of places merged since, as the final map holds them
     return Result(labels, lat, model, localized)
 
 

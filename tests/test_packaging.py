@@ -94,3 +94,13 @@ def test_the_installed_wheel_works_outside_the_repository(wheel, tmp_path):
     mine = json.loads((work / "mine.json").read_text())
     assert "success_rate=" in scores
     assert mine["buildings"][0]["recognizer_params"] == {"threshold": 0.8}
+    # the leaderboard of it against the true rooms, and the paired comparison of the two
+    table = run(placeclust, "leaderboard", "--scene-seeds", "0", "1", "--rooms", "3",
+                "--recognizers", "oracle", "mine:HaarPlaces", "--param", "threshold=0.8",
+                "--goals-per-scene", "1", "--tour-steps-per-room", "40", "--workers", "1",
+                "--out", "board")
+    assert "| oracle | 1.00 [1.00, 1.00] |" in table
+    results = str(work / "board" / "results.json")
+    paired = run(placeclust, "compare", results, results, "--a", "mine:HaarPlaces",
+                 "--b", "oracle")
+    assert "| success_rate |" in paired and "Paired on 2 buildings" in paired

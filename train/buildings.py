@@ -20,7 +20,7 @@ class TrainBuildings(gym.Env):
         scene_seeds: ``train``-split scene seeds (a seed of another split is a ``ValueError``:
             agents never train where they are scored).
         episodes_per_building: episodes before the next building is built.
-        **task: ``PlaceNav-GuidedTour-v0`` arguments (``recognizer``, ``n_rooms``...).
+        **task: ``PlaceNav-GuidedTour-v1`` arguments (``recognizer``, ``n_rooms``...).
     """
 
     def __init__(self, scene_seeds: Sequence[int], episodes_per_building: int = 1,
@@ -36,7 +36,7 @@ class TrainBuildings(gym.Env):
 
     def _make(self, scene_seed: int) -> gym.Env:
         self.scene_seed = scene_seed  # the building of the current episode
-        return PlannerHints(gym.make("PlaceNav-GuidedTour-v0", scene_seed=scene_seed,
+        return PlannerHints(gym.make("PlaceNav-GuidedTour-v1", scene_seed=scene_seed,
                                      **self.task))
 
     def reset(self, *, seed: int | None = None, options: dict[str, Any] | None = None

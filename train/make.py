@@ -8,7 +8,7 @@
 | ``planner`` | all of ``PlaceNav``'s keys, ``goal_panorama`` and ``place_id`` (no learning) |
 | ``errands`` | guided tours of many buildings, through the tour planner's hints |
 
-``errands`` is another task (``PlaceNav-GuidedTour-v0``, :mod:`envs.agents.hints`).
+``errands`` is another task (``PlaceNav-GuidedTour-v1``, :mod:`envs.agents.hints`).
 
 No agent sees the panorama itself: learning from pixels is not what this benchmark is about,
 and it would not train on a CPU in an hour.

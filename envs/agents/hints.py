@@ -12,7 +12,7 @@ through ``placeclust errands --agent ppo``.
 Examples:
     >>> import gymnasium as gym
     >>> from envs.agents.hints import PlannerHints, N_FEATURES
-    >>> env = PlannerHints(gym.make("PlaceNav-GuidedTour-v0", recognizer="oracle", n_rooms=3,
+    >>> env = PlannerHints(gym.make("PlaceNav-GuidedTour-v1", recognizer="oracle", n_rooms=3,
     ...                             n_errands=1, tour_steps_per_room=40))
     >>> obs, info = env.reset(seed=0)
     >>> obs.shape == (N_FEATURES,) and obs in env.observation_space
@@ -44,7 +44,7 @@ class _PlaceTask(Protocol):
 
 
 def unknown_place(env: gym.Env) -> int:
-    """The ``place_id`` that ``env``, ``PlaceNav-GuidedTour-v0`` wrapped or not, gives for
+    """The ``place_id`` that ``env``, ``PlaceNav-GuidedTour-v1`` wrapped or not, gives for
     "unknown": its ``max_places``."""
     task = env.unwrapped
     # by attribute, not class: a process may load this package as both envs and placeclust_envs,
@@ -92,7 +92,7 @@ def residual(features: np.ndarray, action: np.ndarray) -> np.ndarray:
 
 
 class PlannerHints(gym.Wrapper):
-    """``PlaceNav-GuidedTour-v0`` seen through :class:`HintFeatures`, acted on as a residual.
+    """``PlaceNav-GuidedTour-v1`` seen through :class:`HintFeatures`, acted on as a residual.
 
     The observation is the feature vector; the action is a correction added to the planner's
     own action (:func:`residual`), so a policy that outputs zeros is the planner, and PPO

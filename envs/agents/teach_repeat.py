@@ -1,4 +1,4 @@
-"""A topological planner that learns its map from the guided tour, for ``PlaceNav-GuidedTour-v0``.
+"""A topological planner that learns its map from the guided tour, for ``PlaceNav-GuidedTour-v1``.
 
 Teach and repeat (Furgale & Barfoot 2010) on the recognizer's own places. The tour is the teach
 pass: the planner dead-reckons the tour's path from odometry and compass, and keeps, for every
@@ -18,7 +18,7 @@ Examples:
     >>> import gymnasium as gym
     >>> import envs
     >>> from envs.agents.teach_repeat import TourPlanner
-    >>> env = gym.make("PlaceNav-GuidedTour-v0", recognizer="oracle", n_rooms=3, n_errands=1,
+    >>> env = gym.make("PlaceNav-GuidedTour-v1", recognizer="oracle", n_rooms=3, n_errands=1,
     ...                tour_steps_per_room=40)
     >>> obs, info = env.reset(seed=0)
     >>> planner = TourPlanner(unknown=env.unwrapped.max_places)

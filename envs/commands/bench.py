@@ -17,10 +17,11 @@ How it is run:
 - A condition is a lighting (``day``, ``cloudy``, ``night``) or an appearance change
   (``moved``: furniture and posters; ``noisy``: camera noise and blur), see
   :data:`envs.world.conditions.CONDITIONS`. One written ``"day>night"`` is a cross-condition run:
-  the online recognizer maps the ``day`` tour, then localizes on the ``night`` tour of the same
-  route with the map fixed (:meth:`OnlinePlaceClustering.localize_one`), scored with the
-  places' day rooms. Only the online recognizer has a fixed-map mode, so the matrix leaves the
-  others out of these runs.
+  a recognizer maps the ``day`` tour, then localizes on the ``night`` tour of the same route
+  with the map fixed (``localize_one``, as :meth:`OnlinePlaceClustering.localize_one`), scored
+  with the places' day rooms. Every recognizer that can localize takes part (``online``,
+  ``nested``, one of your own with ``localize_one``); the others cannot fix their maps, and
+  the report names them as skipped (:meth:`Matrix.skipped`).
 - ``latency`` rows time the online recognizer as its map grows on synthetic places
   (:func:`placeclust.latency.latency_vs_map_size`), for the latency vs map-size plot.
 """
@@ -31,7 +32,6 @@ import functools
 import hashlib
 import json
 import os
-import platform
 from collections.abc import Iterator
 from dataclasses import asdict, dataclass, field, replace
 from pathlib import Path
@@ -39,16 +39,16 @@ from typing import Any
 
 import numpy as np
 
-from placeclust import __version__
+from placeclust import __version__, protocol
 from placeclust.atomic import write_atomic
 from placeclust.features import FEATURES
-from placeclust.runner import ALGORITHMS, check_params
+from placeclust.runner import ALGORITHMS, check_params, recognizer_class
 
 from ..world.conditions import CONDITIONS
 from .bench_report import write_report
 from .pool import run_all
+from .suite import library_versions
 
-CROSS_ALGOS = ("online",)  # recognizers with a fixed-map (localize-only) mode
 ARRAYS = ("assignments", "truth")  # per-frame arrays of a run, stored beside its JSON
 
 
@@ -123,11 +123,12 @@ class Matrix:
         return self.latency_features if self.latency_sizes else ()
 
     def runs(self) -> list[RunSpec]:
-        """Every run of the matrix, in table order (cross-condition runs only for online)."""
+        """Every run of the matrix, in table order (cross-condition runs only for the
+        recognizers that can localize, :func:`can_localize`)."""
         out = []
         for condition in self.conditions:
             for algo in self.algos:
-                if ">" in condition and algo not in CROSS_ALGOS:
+                if ">" in condition and not can_localize(algo):
                     continue
                 for feat in self.features:
                     for scene in self.scenes:
@@ -137,6 +138,19 @@ class Matrix:
                                                    self.steps_per_room, self.width, self.height,
                                                    self.params))
         return out
+
+
+    def skipped(self) -> list[str]:
+        """The cross-condition runs the matrix leaves out, each as ``algo on condition``:
+        recognizers that cannot localize on a fixed map."""
+        return [f"{algo} on {condition}" for condition in self.conditions if ">" in condition
+                for algo in self.algos if not can_localize(algo)]
+
+
+def can_localize(algo: str) -> bool:
+    """Whether ``algo``'s recognizer can localize on a fixed map
+    (:class:`placeclust.protocol.Localizer`), the mode a cross-condition run needs."""
+    return protocol.can_localize(recognizer_class(algo))
 
 
 def _check_choices(name: str, values: tuple[str, ...], allowed: tuple[str, ...]) -> None:
@@ -156,21 +170,6 @@ SIZES: dict[str, Matrix] = {
                    steps_per_room=250, latency_features=("sift", "kaze", "orb"),
                    latency_sizes=(10, 50, 100, 250, 500)),
 }
-
-
-def versions() -> dict[str, str]:
-    """Versions of the code and libraries that produce a row (recorded in every row)."""
-    from importlib.metadata import PackageNotFoundError, version
-
-    out = {"placeclust": __version__, "python": platform.python_version(),
-           "machine": platform.machine()}
-    for pkg in ("numpy", "opencv-contrib-python-headless", "scikit-learn", "scipy", "mujoco",
-                "mahotas"):
-        try:
-            out[pkg] = version(pkg)
-        except PackageNotFoundError:
-            out[pkg] = ""
-    return out
 
 
 # -- the store of finished runs ---------------------------------------------------------------
@@ -274,7 +273,7 @@ def _latency_rows(job: Job) -> Iterator[dict]:
 
     points = latency_vs_map_size(job.features, list(job.sizes))
     yield {"key": latency_key(job.features, job.sizes), "kind": "latency",
-           "features": job.features, "points": points, **versions()}
+           "features": job.features, "points": points, **library_versions()}
 
 
 def _tour_rows(specs: tuple[RunSpec, ...]) -> Iterator[dict]:
@@ -295,7 +294,7 @@ def _tour_rows(specs: tuple[RunSpec, ...]) -> Iterator[dict]:
             result = run(spec.algo, frames, spec.features, **params)
             pred, truth, metrics = result.assignments, room, evaluate(result, room)
         # params as JSON gives them back from the store, so every executor returns equal rows
-        yield {"key": spec.key, "kind": "run", **asdict(spec), **metrics, **versions(),
+        yield {"key": spec.key, "kind": "run", **asdict(spec), **metrics, **library_versions(),
                "params": [list(p) for p in spec.params], "assignments": pred, "truth": truth}
 
 
@@ -339,15 +338,13 @@ def _cross_condition(spec: RunSpec, frames: np.ndarray, room: np.ndarray,
     Returns the place of every test frame and the metrics of the test tour.
     """
     from placeclust.metrics import place_to_room, score
-    from placeclust.online import OnlinePlaceClustering
     from placeclust.runner import evaluate, localize, run
 
     params: dict[str, Any] = dict(spec.params)  # checked against the recognizer by Matrix
     mapped = run(spec.algo, frames, spec.features, **params)
     rooms_of = place_to_room(mapped.assignments, room)
-    # the matrix has cross-condition runs only for CROSS_ALGOS, whose maps can be fixed
-    assert isinstance(mapped.model, OnlinePlaceClustering)
-    mapped.model.reset_position()
+    # the matrix has cross-condition runs only for recognizers that can localize
+    protocol.reset_position(mapped.model)  # the test tour starts anywhere on the map
     tested = localize(mapped.model, test_frames)
     pred, metrics = tested.assignments, evaluate(tested, test_room)
     # precision against the rooms the places were mapped in, not the test tour's own majority
@@ -401,7 +398,7 @@ def run_bench(matrix: Matrix, out: str | os.PathLike, workers: int = 0, executor
     folder = Path(out)
     store = RunStore(folder / "runs")
     (folder / "config.json").write_text(json.dumps(
-        {"matrix": asdict(matrix), "versions": versions()}, indent=1))
+        {"matrix": asdict(matrix), "versions": library_versions()}, indent=1))
     jobs, done = plan_jobs(matrix, store)
     if progress:
         print(f"{done} runs already done in {folder}; {len(jobs)} jobs to go")
@@ -410,4 +407,4 @@ def run_bench(matrix: Matrix, out: str | os.PathLike, workers: int = 0, executor
     rows = [store.get(spec.key) for spec in matrix.runs()]
     latency = [store.get(latency_key(f, matrix.latency_sizes)) for f in matrix.latency_sweeps]
     return write_report([r for r in rows if r], [r for r in latency if r], folder,
-                        ["key", *RunSpec.__dataclass_fields__], progress)
+                        ["key", *RunSpec.__dataclass_fields__], progress, matrix.skipped())

@@ -3,12 +3,14 @@
 from __future__ import annotations
 
 import csv
-from collections.abc import Iterable, Sequence
+from collections.abc import Callable, Iterable, Sequence
+from operator import itemgetter
 from pathlib import Path
 
 import numpy as np
 
 from placeclust.features import BINARY
+from placeclust.stats import interval
 
 from ..world.splits import split_of
 
@@ -72,25 +74,42 @@ def meets_bar(row: dict) -> bool:
             and row["n_places"] <= bar["places_per_room"] * row["n_rooms"])
 
 
+def by_building(rows: list[dict], value: Callable[[dict], float]) -> list[list[float]]:
+    """``value`` of each run, grouped by building (scene seed): the sample a bootstrap over
+    buildings resamples (:mod:`placeclust.stats`)."""
+    groups: dict[int, list[float]] = {}
+    for r in rows:
+        groups.setdefault(int(r["scene_seed"]), []).append(float(value(r)))
+    return list(groups.values())
+
+
+def _cell(rows: list[dict], value: Callable[[dict], float], worst: Callable, digits: int) -> str:
+    est = interval(by_building(rows, value))
+    low = "" if np.isnan(est.low) else f" [{est.low:.{digits}f}, {est.high:.{digits}f}]"
+    return f"{est.mean:.{digits}f}{low} ({worst(value(r) for r in rows):.{digits}f})"
+
+
 def summary_table(rows: list[dict]) -> str:
     """Per method and condition, the distribution over worlds and tours, as in seed 000's Fig. 2.
 
-    Each metric is the mean with the worst run in brackets (lowest precision, recall, NMI and
-    ARI; most places per room); ``bar`` is the share of runs meeting their bar
-    (:func:`meets_bar`).
+    Each metric is the mean over tours with its 95% interval from a bootstrap over buildings
+    (:func:`placeclust.stats.interval`; none with one building) and the worst run in
+    parentheses (lowest precision, recall, NMI and ARI; most places per room); ``bar`` is the
+    share of runs meeting their bar (:func:`meets_bar`), with its interval.
     """
-    lines = ["| method | condition | " + " | ".join(f"{k} (worst)" for k in TABLE_KEYS)
-             + " | places/rooms (worst) | bar | ms/frame | runs |",
+    lines = ["| method | condition | " + " | ".join(f"{k} [95%] (worst)" for k in TABLE_KEYS)
+             + " | places/rooms [95%] (worst) | bar [95%] | ms/frame | runs |",
              "|---" * (len(TABLE_KEYS) + 6) + "|"]
     for (algo, feat, condition), sel in _methods(rows).items():
-        cells = [f"{np.mean([r[k] for r in sel]):.3f} ({min(r[k] for r in sel):.3f})"
-                 for k in TABLE_KEYS]
-        ratios = [r["n_places"] / r["n_rooms"] for r in sel]
+        cells = [_cell(sel, itemgetter(k), min, 3) for k in TABLE_KEYS]
+        ratio = _cell(sel, lambda r: r["n_places"] / r["n_rooms"], max, 2)
         met = sum(map(meets_bar, sel))
+        bar = interval(by_building(sel, meets_bar))
+        bar_text = f"{met}/{len(sel)}" + ("" if np.isnan(bar.low)
+                                          else f" [{bar.low:.2f}, {bar.high:.2f}]")
         ms = np.median([r["ms_per_frame"] for r in sel])
         lines.append(f"| {algo} ({feat}) | {condition} | " + " | ".join(cells)
-                     + f" | {np.mean(ratios):.2f} ({max(ratios):.2f}) | {met}/{len(sel)} | "
-                     f"{ms:.1f} | {len(sel)} |")
+                     + f" | {ratio} | {bar_text} | {ms:.1f} | {len(sel)} |")
     return "\n".join(lines)
 
 
@@ -169,10 +188,12 @@ def plot_latency(latency: list[dict], path: str | Path) -> None:
 
 
 def write_report(rows: list[dict], latency: list[dict], folder: str | Path,
-                 spec_columns: list[str], echo: bool = True) -> list[dict]:
+                 spec_columns: list[str], echo: bool = True,
+                 skipped: Sequence[str] = ()) -> list[dict]:
     """Write ``results.csv``, ``results.md``, ``precision.png`` and ``latency.png``.
 
-    ``spec_columns`` are the fields that configure a run, the first columns of the CSV.
+    ``spec_columns`` are the fields that configure a run, the first columns of the CSV;
+    ``skipped`` names runs the matrix asked for and could not make (a line under the table).
     Returns ``rows``; prints the markdown when ``echo``.
     """
     folder = Path(folder)
@@ -180,6 +201,9 @@ def write_report(rows: list[dict], latency: list[dict], folder: str | Path,
     parts = ["# placeclust bench", ""]
     if rows:
         parts += [worlds_line(rows), "", summary_table(rows), ""]
+        if skipped:
+            parts += ["Skipped, as these recognizers cannot localize on a fixed map: "
+                      + "; ".join(skipped) + ".", ""]
         plot_precision(rows, folder / "precision.png")
     if latency:
         parts += ["Latency as the map grows (synthetic places, 512×128):", "",

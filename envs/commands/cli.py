@@ -259,6 +259,8 @@ COMMANDS = {
                     "buildings never seen (the closed loop)"),
     "errands": (".closed_loop", "one recognizer's errands after a guided tour of each building "
                 "of a split"),
+    "compare": (".compare", "two recognizers' results paired on the same buildings: the "
+                "differences with their intervals"),
     "seed001": (".seed001", "seed 001's experiment on its paper's forward camera"),
     "longrun": (".longrun", "the online recognizer in the loop for many steps"),
     "speed": (".speed", "the simulator's steps per second against a bare render"),

@@ -1,6 +1,6 @@
 """Errands in buildings never seen: one guided tour per building, then errands to named rooms.
 
-Each building of a split gets one episode of ``PlaceNav-GuidedTour-v0``: the tour builds the
+Each building of a split gets one episode of ``PlaceNav-GuidedTour-v1``: the tour builds the
 recognizer's map from nothing, then the agent runs ``goals`` errands on it. Nothing is trained
 on the building and nothing is retrained when the recognizer changes, so the success rate
 ranks recognizers by what their maps are worth to an agent.
@@ -25,7 +25,9 @@ Examples:
 from __future__ import annotations
 
 import argparse
+import functools
 import hashlib
+import importlib
 import inspect
 import json
 import sys
@@ -36,20 +38,20 @@ from typing import Any
 import gymnasium as gym
 import numpy as np
 
-from placeclust import __version__
 from placeclust.atomic import write_atomic
 from placeclust.checks import check_recognizer
 from placeclust.presets import PRESETS
 from placeclust.progress import progress as progress_bar
 from placeclust.runner import preset_params, recognizer_class
 
-from ..agents import hints, teach_repeat, topological
+from ..agents import hints
 from ..agents.teach_repeat import TourPlanner
-from ..tasks import tour
 from ..tasks.guided_tour import RECOGNIZERS, check_recognizer_name, make_recognizer
 from ..world.splits import add_scope_arguments, scope_seeds
 from ..world.textures import ASSETS
 from .pool import run_all
+from .results import interval_text, summarize, write_results
+from .suite import library_versions, provenance, render_fingerprint
 
 #: agents that run errands on a guided tour's map; ``planner`` is the best
 ERRAND_AGENTS = ("planner", "ppo", "random")
@@ -72,7 +74,7 @@ def run_scene(scene_seed: int, n_rooms: int = 6, recognizer: str = "panorama",
         seed: the episode's seed (with the scene seed: the tour's route and the errands' goals).
         policy: the ``ppo`` agent's policy (default: the shipped one).
         recognizer_params: the recognizer's constructor arguments.
-        **task: more ``PlaceNav-GuidedTour-v0`` arguments.
+        **task: more ``PlaceNav-GuidedTour-v1`` arguments.
 
     Returns:
         ``success_rate``, ``spl``, ``mean_length`` (steps per errand), the tour map's
@@ -84,7 +86,7 @@ def run_scene(scene_seed: int, n_rooms: int = 6, recognizer: str = "panorama",
     check_recognizer_name(recognizer)
     model = _load_policy(Path(policy or POLICY)) if agent == "ppo" else None
     start = time.perf_counter()
-    env = gym.make("PlaceNav-GuidedTour-v0", recognizer=recognizer, scene_seed=scene_seed,
+    env = gym.make("PlaceNav-GuidedTour-v1", recognizer=recognizer, scene_seed=scene_seed,
                    n_rooms=n_rooms, n_errands=goals, recognizer_params=recognizer_params,
                    **task)
     if model is not None:  # the learned agent sees the planner's hints and corrects its action
@@ -127,26 +129,12 @@ def _load_policy(policy: Path):
     return PPO.load(policy, device="cpu")
 
 
-def summarize(rows: list[dict[str, Any]]) -> dict[str, Any]:
-    """Scores over buildings: errand-weighted means, and the worst building's success rate."""
-    errands = [e for r in rows for e in r["errands"]]
-    return {
-        "recognizer": rows[0]["recognizer"], "agent": rows[0]["agent"],
-        "scenes": [r["scene_seed"] for r in rows], "errands": len(errands),
-        "success_rate": float(np.mean([e["success"] for e in errands])),
-        "worst_scene_success": float(min(r["success_rate"] for r in rows)),
-        "spl": float(np.mean([e["spl"] for e in errands])),
-        "mean_length": float(np.mean([e["steps"] for e in errands])),
-        **{k: float(np.mean([r[k] for r in rows]))
-           for k in ("precision", "nmi", "n_places", "places_per_room")},
-        "seconds": float(sum(r["seconds"] for r in rows)),
-    }
-
-
 #: the slow recognizers first, so the last job to finish is a short one
 COST = {"panorama": 0, "nested": 1, "panorama-orb": 2, "random": 3, "none": 4, "oracle": 5}
-#: the modules an agent's errands depend on, besides the placeclust version
-AGENT_SOURCES = (sys.modules[__name__], teach_repeat, topological, hints, tour)
+#: the code a closed-loop job runs, besides a user's recognizer and a policy file: the library,
+#: and the world, the tasks and the agents of this package (``envs``, or ``placeclust_envs``
+#: in a wheel), with this module (not the commands that only report)
+JOB_SOURCES = ("placeclust", "..world", "..tasks", "..agents")
 
 
 def check_closed_loop_recognizer(name: str, params: dict[str, Any] | None = None) -> None:
@@ -167,17 +155,30 @@ def check_closed_loop_recognizer(name: str, params: dict[str, Any] | None = None
             raise ValueError(f"{name} is not a recognizer placeclust can run: {exc}") from exc
 
 
-def agent_fingerprint(job: dict[str, Any]) -> str:
-    """A hash of what drives a job's agent: :data:`AGENT_SOURCES`, for ``ppo`` the policy
-    file, and for a ``package.module:Class`` recognizer its module's source. A planner edited,
-    a policy trained again or a user's recognizer changed within one version of placeclust
-    would otherwise be scored by the rows its predecessor left in ``OUT/runs/``."""
+@functools.cache
+def _code_digest() -> bytes:
+    """The source of :data:`JOB_SOURCES` and of this module, every file in a fixed order."""
     digest = hashlib.sha256()
-    sources = [inspect.getfile(module) for module in AGENT_SOURCES]
+    files = [Path(inspect.getfile(sys.modules[__name__]))]
+    for package in JOB_SOURCES:
+        module = importlib.import_module(package, __package__)
+        root = Path(inspect.getfile(module)).parent
+        files += sorted(root.glob("*.py"))
+    for path in files:
+        digest.update(path.name.encode())
+        digest.update(path.read_bytes())
+    return digest.digest()
+
+
+def job_fingerprint(job: dict[str, Any]) -> str:
+    """A hash of all the code that makes a job's result: the library, the world, the tasks
+    and the agents (:data:`JOB_SOURCES`), for a ``package.module:Class`` recognizer its
+    module's source, and for ``ppo`` the policy file. A kept row is reused only under the same
+    fingerprint, library versions and render fingerprint (:func:`run_jobs`): an edit anywhere
+    a result could come from, within one version of placeclust, runs the job again."""
+    digest = hashlib.sha256(_code_digest())
     if ":" in job.get("recognizer", ""):
-        sources.append(inspect.getfile(recognizer_class(job["recognizer"])))
-    for source in sources:
-        digest.update(Path(source).read_bytes())
+        digest.update(Path(inspect.getfile(recognizer_class(job["recognizer"]))).read_bytes())
     if job["agent"] == "ppo":
         policy = Path(job.get("policy") or POLICY)
         if policy.is_file():  # a missing one is reported by the job itself
@@ -207,7 +208,7 @@ def make_jobs(scene_seeds: list[int], recognizers: list[str], n_rooms: int, agen
               params: dict[str, dict[str, Any]] | None = None,
               **task: Any) -> list[dict[str, Any]]:
     """One :func:`run_scene` job per recognizer and building; ``params`` maps a recognizer to
-    its constructor arguments, ``task`` is more ``PlaceNav-GuidedTour-v0`` arguments."""
+    its constructor arguments, ``task`` is more ``PlaceNav-GuidedTour-v1`` arguments."""
     extra = {"policy": str(policy)} if policy else {}
     params = params or {}
     return [{"scene_seed": s, "n_rooms": n_rooms, "recognizer": r, "agent": agent,
@@ -220,32 +221,44 @@ def run_jobs(jobs: list[dict[str, Any]], out: Path | None = None, workers: int =
              executor: str = "process", progress: bool = True) -> list[dict[str, Any]]:
     """Run :func:`run_scene` for each job (its keyword arguments); the rows.
 
-    With ``out``, each row is kept in ``out/runs/<key>.json`` and a row already there from
-    this version of placeclust and the same agent (:func:`agent_fingerprint`) is not run again.
+    With ``out``, each row is kept in ``out/runs/<key>.json`` with its :func:`stamp`; a row
+    already there is used again only if its stamp is this run's (the same code, library
+    versions and rendering). Stale rows are run again, and counted on standard error.
     """
     store = None if out is None else Path(out) / "runs"
-    agents = {job_key(job): agent_fingerprint(job) for job in jobs}
-    done = {}
+    stamps = {job_key(job): stamp(job) for job in jobs}
+    done, stale = {}, 0
     if store is not None:
         store.mkdir(parents=True, exist_ok=True)
         for job in jobs:
             path = store / f"{job_key(job)}.json"
             if path.is_file():
                 row = json.loads(path.read_text())
-                if (row.get("version"), row.get("agent_fingerprint")) == (
-                        __version__, agents[job_key(job)]):
+                if row.get("stamp") == stamps[job_key(job)]:
                     done[job_key(job)] = row
+                else:
+                    stale += 1
+    if stale:
+        print(f"{stale} kept results in {store} are stale (code, libraries or rendering "
+              "changed since) and run again", file=sys.stderr)
     todo = sorted((j for j in jobs if job_key(j) not in done),
                   key=lambda j: COST.get(j["recognizer"], 0))
     bar = progress_bar(total=len(todo), enabled=progress, desc="errands", unit="building")
     for job, row in run_all(_run_job, todo, workers, executor):
-        row["version"], row["agent_fingerprint"] = __version__, agents[job_key(job)]
+        row["stamp"] = stamps[job_key(job)]
         done[job_key(job)] = row
         if store is not None:
             _keep(store / f"{job_key(job)}.json", row)
         bar.update()
     bar.close()
     return [done[job_key(j)] for j in jobs]
+
+
+def stamp(job: dict[str, Any]) -> dict[str, Any]:
+    """What a kept row must match to be used again: the job's code
+    (:func:`job_fingerprint`), the library versions and the render fingerprint."""
+    return {"code": job_fingerprint(job), "versions": library_versions(),
+            "render_fingerprint": render_fingerprint()}
 
 
 def _keep(path: Path, row: dict[str, Any]) -> None:
@@ -309,7 +322,7 @@ def main(argv: list[str] | None = None, prog: str = "placeclust errands") -> int
     p.add_argument("--policy", type=Path, help="the ppo agent's policy (default: shipped)")
     p.add_argument("--goals-per-scene", type=int, default=5)
     p.add_argument("--tour-steps-per-room", type=int, default=150,
-                   help="the guided tour's length per room (PlaceNav-GuidedTour-v0's)")
+                   help="the guided tour's length per room (PlaceNav-GuidedTour-v1's)")
     p.add_argument("--seed", type=int, default=0)
     p.add_argument("--json", type=Path, help="also write the scores here")
     p.add_argument("--workers", type=int, default=1)
@@ -329,8 +342,14 @@ def main(argv: list[str] | None = None, prog: str = "placeclust errands") -> int
     except (ValueError, FileNotFoundError) as e:
         print(f"error: {e}", file=sys.stderr)
         return 2
-    summary = {**summarize(rows), "split": args.split, "rooms": args.rooms, "seed": args.seed}
-    print(" ".join(f"{k}={v:.3f}" for k, v in summary.items() if isinstance(v, float)))
+    settings = {"split": args.split, "scene_seeds": seeds, "rooms": args.rooms,
+                "goals": args.goals_per_scene, "seed": args.seed, "agent": args.agent,
+                "task": task}
     if args.json:
-        args.json.write_text(json.dumps({**summary, "buildings": rows}, indent=1))
+        doc = write_results(args.json, rows, [args.recognizer], settings, provenance(None))
+        (summary,) = doc["summaries"]
+    else:
+        summary = summarize(rows)
+    print(" ".join(f"{k}={v:.3f}" for k, v in summary.items() if isinstance(v, float)))
+    print(" ".join(f"{k}={interval_text(summary, k, 3)}" for k in ("success_rate", "spl")))
     return 0

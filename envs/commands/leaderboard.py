@@ -1,26 +1,33 @@
 """The closed-loop leaderboard: recognizers ranked by errand success in buildings never seen.
 
-    placeclust leaderboard --split test --rooms 6 --goals-per-scene 5 --seed 0 \\
+    placeclust leaderboard --suite placenav-v1 [--size full|quick|long] \\
         --out runs/leaderboard [--recognizers oracle panorama mypackage.module:Mine ...] \\
         [--preset NAME] [--param NAME=VALUE] [--agent planner] \\
         [--workers N] [--executor process|ray] [--docs docs/benchmarks.md]
+    placeclust leaderboard --split val --n-scenes 16 --rooms 6 --goals-per-scene 10 ...
 
 Every recognizer maps every building of the split from a guided tour, and the same agent
 (:mod:`envs.agents.teach_repeat` by default) runs the same errands on each map
-(:func:`envs.commands.closed_loop.run_scene`). The table puts task success beside the same maps'
-open-loop precision, NMI and places per room, and ``success_vs_nmi.png`` plots one against the
-other. A ``package.module:Class`` among the recognizers is one of your own, with ``--preset``
-and ``--param`` as its constructor arguments; it is checked before any job starts.
+(:func:`envs.commands.closed_loop.run_scene`). A suite (:mod:`envs.commands.suite`) fixes the
+buildings, rooms, errands, tour length and seed, so results are comparable across machines and
+versions; without one, ``--split``/``--scene-seeds`` and the other options say what runs, and
+the results belong to no suite. The table puts task success beside the same maps' open-loop
+precision, NMI and places per room, each a mean with its 95% interval from a bootstrap over
+buildings (:mod:`placeclust.stats`), and ``success_vs_nmi.png`` plots one against the other.
+``OUT/results.json`` (:mod:`envs.commands.results`) holds every building's errands, the
+summaries and the provenance; ``placeclust compare`` pairs two recognizers from such files.
+A ``package.module:Class`` among the recognizers is one of your own, with ``--preset`` and
+``--param`` as its constructor arguments; it is checked before any job starts.
 
 Each (recognizer, building) is one job on a ``spawn`` process pool or Ray; its result is kept in
 ``OUT/runs/``, so an interrupted run resumes where it stopped; a kept result is used again only
-if the agent that made it is the same (:func:`~envs.commands.closed_loop.agent_fingerprint`).
+if the code, libraries and rendering that made it are this run's
+(:func:`~envs.commands.closed_loop.stamp`).
 """
 
 from __future__ import annotations
 
 import argparse
-import json
 import shlex
 import sys
 from pathlib import Path
@@ -35,20 +42,37 @@ from .closed_loop import (
     make_jobs,
     recognizer_params,
     run_jobs,
-    summarize,
 )
+from .results import TARGET_HALF_WIDTH, interval_text, write_results
+from .suite import SIZES, SUITES, get_suite, provenance
 
 
 def leaderboard(summaries: list[dict[str, Any]]) -> str:
-    """The summaries (:func:`~envs.commands.closed_loop.summarize`) as a markdown table, best
-    first."""
-    lines = ["| recognizer | success | worst building | SPL | steps per errand | precision | "
+    """The summaries (:func:`~envs.commands.results.summarize`) as a markdown table, best
+    first: each figure a mean with its 95% interval over buildings."""
+    lines = ["| recognizer | success | SPL | worst building | steps per errand | precision | "
              "NMI | places per room |", "|---|---|---|---|---|---|---|---|"]
     for s in sorted(summaries, key=lambda s: -s["success_rate"]):
-        lines.append(f"| {s['recognizer']} | {s['success_rate']:.2f} | "
-                     f"{s['worst_scene_success']:.2f} | {s['spl']:.2f} | "
-                     f"{s['mean_length']:.0f} | {s['precision']:.3f} | {s['nmi']:.3f} | "
-                     f"{s['places_per_room']:.2f} |")
+        lines.append(f"| {s['recognizer']} | {interval_text(s, 'success_rate')} | "
+                     f"{interval_text(s, 'spl')} | {s['worst_scene_success']:.2f} | "
+                     f"{s['mean_length']:.0f} | {interval_text(s, 'precision', 3)} | "
+                     f"{interval_text(s, 'nmi', 3)} | {interval_text(s, 'places_per_room')} |")
+    return "\n".join(lines)
+
+
+def power_table(summaries: list[dict[str, Any]]) -> str:
+    """How many buildings each recognizer needs for the target half-widths
+    (:data:`~envs.commands.results.TARGET_HALF_WIDTH`), from this run's spread of buildings,
+    and what one building costs it: the pilot that sizes a suite (``docs/design.md``)."""
+    targets = ", ".join(f"{k} ±{v}" for k, v in TARGET_HALF_WIDTH.items())
+    lines = [f"| recognizer | buildings for {targets} | half-widths now | core-seconds per "
+             "building |", "|---|---|---|---|"]
+    for s in summaries:
+        needed = " / ".join(str(s.get(f"{k}_buildings_needed", "–")) for k in TARGET_HALF_WIDTH)
+        now = " / ".join(f"{(s[f'{k}_interval'][1] - s[f'{k}_interval'][0]) / 2:.3f}"
+                         for k in TARGET_HALF_WIDTH)
+        lines.append(f"| {s['recognizer']} | {needed} | {now} | "
+                     f"{s['seconds'] / len(s['scenes']):.0f} |")
     return "\n".join(lines)
 
 
@@ -84,52 +108,105 @@ def plot(summaries: list[dict[str, Any]], path: Path) -> None:
     plt.close(fig)
 
 
+def _settings(args: argparse.Namespace, p: argparse.ArgumentParser, argv: list[str]
+              ) -> tuple[list[int], dict[str, Any]]:
+    """The buildings and settings a run measures: the suite's, or the options'."""
+    if args.suite is None:
+        if args.size != "full":
+            p.error("--size goes with --suite")
+        seeds = scope_seeds(args, p)
+        task = {}
+    else:
+        fixed = [o for o in ("--split", "--scene-seeds", "--n-scenes", "--rooms",
+                             "--goals-per-scene", "--seed", "--tour-steps-per-room")
+                 if any(a == o or a.startswith(o + "=") for a in argv)]
+        if fixed:
+            p.error(f"the suite {args.suite} fixes {' '.join(fixed)}; leave them out, or "
+                    "leave out --suite (the results then belong to no suite)")
+        suite = get_suite(args.suite)
+        seeds, task = suite.scene_seeds(args.size), suite.task(args.size)
+        args.split, args.rooms = suite.split, suite.n_rooms
+        args.goals_per_scene, args.seed = suite.goals, suite.seed
+    if args.suite is None and args.tour_steps_per_room != 150:
+        task = {"tour_steps_per_room": args.tour_steps_per_room}
+    settings = {"split": args.split, "scene_seeds": seeds, "rooms": args.rooms,
+                "goals": args.goals_per_scene, "seed": args.seed, "agent": args.agent,
+                "task": task}
+    return seeds, settings
+
+
 def main(argv: list[str] | None = None, prog: str = "placeclust leaderboard"
          ) -> int:
     p = argparse.ArgumentParser(prog=prog, description=__doc__,
                                 formatter_class=argparse.RawDescriptionHelpFormatter)
+    p.add_argument("--suite", choices=sorted(SUITES), help="run a frozen suite: its buildings, "
+                   "rooms, errands, tours and seed (envs.commands.suite)")
+    p.add_argument("--size", choices=SIZES, default="full", help="the suite's full size, its "
+                   "quick check or its long-tour track (default full)")
     add_scope_arguments(p, n_scenes=8, default_split="test")
     p.add_argument("--rooms", type=int, default=6)
     add_recognizer_arguments(p, many=True)
     p.add_argument("--agent", choices=ERRAND_AGENTS, default="planner")
     p.add_argument("--policy", type=Path, help="the ppo agent's policy (default: shipped)")
     p.add_argument("--goals-per-scene", type=int, default=5)
+    p.add_argument("--tour-steps-per-room", type=int, default=150)
     p.add_argument("--seed", type=int, default=0)
     p.add_argument("--out", type=Path, default=Path("runs/leaderboard"))
     p.add_argument("--workers", type=int, default=2)
     p.add_argument("--executor", choices=("process", "ray"), default="process")
     p.add_argument("--docs", metavar="FILE", help="also write the table into FILE's section "
-                   "leaderboard-<split>[-<agent>] (docs/benchmarks.md)")
+                   "leaderboard-<suite or split>[-<size>][-<agent>] (docs/benchmarks.md)")
     argv = sys.argv[1:] if argv is None else list(argv)
     args = p.parse_args(argv)
-    seeds = scope_seeds(args, p)
+    seeds, settings = _settings(args, p, argv)
     try:
         params = recognizer_params(args.recognizers, args.preset, args.param)
         jobs = make_jobs(seeds, args.recognizers, args.rooms, args.agent,
-                         args.goals_per_scene, args.seed, args.policy, params)
+                         args.goals_per_scene, args.seed, args.policy, params,
+                         **settings["task"])
         rows = run_jobs(jobs, args.out, args.workers, args.executor)
     except (ValueError, FileNotFoundError) as e:
         print(f"error: {e}", file=sys.stderr)
         return 2
-    summaries = [summarize([r for r in rows if r["recognizer"] == rec])
-                 for rec in args.recognizers]
-    table = leaderboard(summaries)
-    rho = rank_agreement(summaries) if len(summaries) > 2 else float("nan")
-    minutes = sum(s["seconds"] for s in summaries) / 60
-    split = f"{args.split} split, scene seeds" if args.split else "scene seeds"
-    body = (f"{len(seeds)} buildings of {args.rooms} rooms ({split} {seeds}), "
-            f"{args.goals_per_scene} errands each after one guided tour, episode seed "
-            f"{args.seed}, agent `{args.agent}`; {minutes:.0f} minutes of one core in all. "
-            f"Spearman's rank correlation of success with NMI: {rho:.2f}.\n\n{table}")
+    suite = None if args.suite is None else get_suite(args.suite)
+    doc = write_results(args.out / "results.json", rows, args.recognizers,
+                        {**settings, "recognizers": args.recognizers},
+                        provenance(suite, args.size))
+    summaries = doc["summaries"]
+    body = (_describe(args, seeds, summaries, doc["provenance"]) + "\n\n"
+            + leaderboard(summaries) + "\n\nSample size: the buildings a sample like this "
+            "one needs for each target half-width, from its spread of buildings "
+            "(`placeclust.stats.buildings_for`), and the cost of one building.\n\n"
+            + power_table(summaries))
     print(body)
-    args.out.mkdir(parents=True, exist_ok=True)
-    (args.out / "leaderboard.json").write_text(json.dumps(summaries, indent=1))
     plot(summaries, args.out / "success_vs_nmi.png")
     if args.docs:
-        name = "leaderboard-" + (args.split or "scenes")
+        name = "leaderboard-" + (args.suite or args.split or "scenes")
+        name += "" if args.size == "full" else f"-{args.size}"
         name += "" if args.agent == "planner" else f"-{args.agent}"
         write_section(args.docs, name, body, shlex.join([*prog.split(), *argv]))
     return 0
+
+
+def _describe(args: argparse.Namespace, seeds: list[int], summaries: list[dict[str, Any]],
+              prov: dict[str, Any]) -> str:
+    """The paragraph above the table: what ran, on what, for how long, and how sure."""
+    rho = rank_agreement(summaries) if len(summaries) > 2 else float("nan")
+    minutes = sum(s["seconds"] for s in summaries) / 60
+    where = f"{args.split} split, scene seeds" if args.split else "scene seeds"
+    span = f"{seeds[0]}–{seeds[-1]}" if seeds == list(range(seeds[0], seeds[-1] + 1)) else seeds
+    suite = (f"Suite `{prov['suite']}` ({prov['size']}), placeclust "
+             f"{prov['versions']['placeclust']}, render fingerprint "
+             f"`{prov['render_fingerprint']}`. " if prov["suite"] else "")
+    redrawn = sum(s["redrawn"] for s in summaries)
+    errands = sum(s["errands"] for s in summaries)
+    return (f"{suite}{len(seeds)} buildings of {args.rooms} rooms ({where} {span}), "
+            f"{args.goals_per_scene} errands each after one guided tour, episode seed "
+            f"{args.seed}, agent `{args.agent}`; {minutes:.0f} minutes of one core in all. "
+            f"Each figure: the mean over errands (tours for the map's figures) with its 95% "
+            f"interval from a bootstrap over buildings. {redrawn} of {errands} errands were "
+            "redrawn to start at least 1 m of walking from their goal. Spearman's rank "
+            f"correlation of success with NMI ({len(summaries)} points, no interval): {rho:.2f}.")
 
 
 if __name__ == "__main__":

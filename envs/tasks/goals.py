@@ -91,6 +91,11 @@ class GoalRoom:
         """Walking distance (m) from (x, y) to the goal room (:func:`walking_distance`)."""
         return walking_distance(self.plan, self._to_goal[self.goal], self.goal, x, y, room)
 
+    def walk(self, goal: int, pose: Sequence[float], room: int | None = None) -> float:
+        """Walking distance (m) from ``pose`` (x, y[, heading]) to room ``goal``, without
+        aiming at it (:func:`walking_distance`; ``room`` as in :meth:`step`)."""
+        return walking_distance(self.plan, self._to_goal[goal], goal, pose[0], pose[1], room)
+
     def start(self, goal: int, pose: Sequence[float], room: int | None = None) -> float:
         """Aim at room ``goal`` from ``pose`` (x, y[, heading]); returns the distance to walk
         (may be ``inf``). ``room``: as in :meth:`step`."""

@@ -1,4 +1,4 @@
-"""``PlaceNav-GuidedTour-v0``: a guide shows the robot a building it has never seen, naming the
+"""``PlaceNav-GuidedTour-v1``: a guide shows the robot a building it has never seen, naming the
 rooms; the robot maps it online; then it runs errands to rooms named by the guide.
 
 This is the setting of COLD, seed 001's data set: a person drives the robot through the
@@ -10,7 +10,7 @@ nothing (``recognizer="random"``) the names mean nothing either.
 Examples:
     >>> import gymnasium as gym
     >>> import envs
-    >>> env = gym.make("PlaceNav-GuidedTour-v0", recognizer="oracle", n_rooms=3, n_errands=1,
+    >>> env = gym.make("PlaceNav-GuidedTour-v1", recognizer="oracle", n_rooms=3, n_errands=1,
     ...                tour_steps_per_room=40)
     >>> obs, info = env.reset(seed=0)
     >>> sorted(info["tour"].heard_names()) == sorted(r.name for r in env.unwrapped.plan.rooms)
@@ -24,7 +24,7 @@ from __future__ import annotations
 
 import math
 import string
-from collections.abc import Mapping
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 from typing import Any
 
@@ -36,7 +36,8 @@ from placeclust import PANORAMA, PANORAMA_ORB, OnlinePlaceClustering
 from placeclust.metrics import score
 from placeclust.nested import NestedMapper
 from placeclust.null import NoPlaces, RandomPlaces
-from placeclust.runner import check_params, is_offline, make, recognizer_class
+from placeclust.protocol import is_offline, reads_images, resolve
+from placeclust.runner import check_params, make, recognizer_class
 
 from .goals import GoalRoom, NavTask
 from .place_id import PlaceIdWrapper, Recognizer
@@ -102,7 +103,7 @@ def _own_recognizer(path: str, params: dict[str, Any]) -> Recognizer:
     model = make(path, **params)
     if not isinstance(model, Recognizer):
         raise ValueError(f"{path} lacks what the closed loop reads of a recognizer: "
-                         "learn_predict_one, n_places and graph")
+                         "learn_predict_one, predict_one, n_places and graph")
     return model
 
 
@@ -160,6 +161,7 @@ class Errand:
     steps: int = 0
     path: float = 0.0
     shortest: float = 0.0
+    redrawn: bool = False
 
     @property
     def spl(self) -> float:
@@ -167,7 +169,8 @@ class Errand:
 
     def as_dict(self) -> dict[str, Any]:
         return {"goal": self.goal, "success": self.success, "steps": self.steps,
-                "path": self.path, "shortest": self.shortest, "spl": self.spl}
+                "path": self.path, "shortest": self.shortest, "spl": self.spl,
+                "redrawn": self.redrawn}
 
 
 class GuidedTourEnv(NavTask, gym.utils.EzPickle):
@@ -177,9 +180,16 @@ class GuidedTourEnv(NavTask, gym.utils.EzPickle):
     recognizer learning from each frame from an empty map, and the guide naming each room once,
     ``name_after`` steps after the robot first enters it. The agent does not act on the tour;
     what it observed comes back as ``info["tour"]`` (:class:`TourRecord`). Then each errand
-    names a room the guide named, other than the one the robot is in; the errand ends when the
-    robot enters that room or after ``errand_steps`` steps, and the next one starts from there.
-    The map keeps learning through the errands.
+    names a room the guide named, other than the one the robot is in and at least
+    ``min_errand_distance`` of walking away; the errand ends when the robot enters that room or
+    after ``errand_steps`` steps, and the next one starts from there. The map keeps learning
+    through the errands.
+
+    An errand starts where the last one ended, at the door of the room just reached, so the
+    room behind that door would be an errand of one step across a threshold. A goal drawn
+    closer than ``min_errand_distance`` is drawn again among the rooms far enough (its
+    :class:`Errand` says ``redrawn``), as Habitat rejects episodes that start within the
+    success distance; where no named room is far enough the first draw stands.
 
     ## Action Space
     ``PlaceNav-v0``'s: ``Box(-1, 1, (2,))``, normalised forward speed and turn rate.
@@ -214,8 +224,9 @@ class GuidedTourEnv(NavTask, gym.utils.EzPickle):
     (500: 50 s, half again the longest shortest route of a 6-room building at the planner's
     pace), ``tour_steps_per_room`` (150: the tour runs
     ``n_rooms`` times that, longer if a room is still unnamed, at most three times that),
-    ``name_after`` (10), ``max_places`` (64), ``success_reward`` (10), ``step_cost`` (0.01),
-    ``shaping`` (1 per metre), ``observe_image`` (False), ``render_mode``, and any argument of
+    ``name_after`` (10), ``min_errand_distance`` (1 m), ``max_places`` (64),
+    ``success_reward`` (10), ``step_cost`` (0.01), ``shaping`` (1 per metre),
+    ``observe_image`` (False), ``render_mode``, and any argument of
     ``PlaceNav-v0`` (``scene_seed``, ``n_rooms`` (default 6 here), ``camera``: the forward
     camera for ``nested``, the panorama otherwise).
 
@@ -223,29 +234,34 @@ class GuidedTourEnv(NavTask, gym.utils.EzPickle):
     said is a ``ValueError``.
 
     ## Version History
-    - v0: first version. Since placeclust 0.13.0 the recognizers ``online`` and ``online-orb``
-      are named ``panorama`` and ``panorama-orb``, after their presets; episodes are the same;
-      ``recognizer`` also takes a ``package.module:Class`` with ``recognizer_params``.
+    - v1 (placeclust 0.13.0): errands start at least ``min_errand_distance`` (1 m) of
+      walking from their goal room. The recognizers ``online`` and ``online-orb`` are named
+      ``panorama`` and ``panorama-orb``, after their presets; ``recognizer`` also takes a
+      ``package.module:Class`` with ``recognizer_params``.
+    - v0: first version; still registered, as v1 with ``min_errand_distance=0``.
     """
 
     def __init__(self, recognizer: str | Recognizer = "panorama", n_errands: int = 5,
                  errand_steps: int = 500, tour_steps_per_room: int = 150, name_after: int = 10,
-                 max_places: int = 64, success_reward: float = 10.0, step_cost: float = 0.01,
-                 shaping: float = 1.0, observe_image: bool = False,
-                 render_mode: str | None = None, n_rooms: int = 6,
+                 min_errand_distance: float = 1.0, max_places: int = 64,
+                 success_reward: float = 10.0, step_cost: float = 0.01, shaping: float = 1.0,
+                 observe_image: bool = False, render_mode: str | None = None, n_rooms: int = 6,
                  recognizer_params: Mapping[str, Any] | None = None, **world: Any) -> None:
         # pickle and deepcopy rebuild the env from its arguments, as PlaceNav-v0 does
         gym.utils.EzPickle.__init__(
             self, recognizer=recognizer, recognizer_params=recognizer_params,
             n_errands=n_errands, errand_steps=errand_steps,
             tour_steps_per_room=tour_steps_per_room, name_after=name_after,
-            max_places=max_places, success_reward=success_reward, step_cost=step_cost,
-            shaping=shaping, observe_image=observe_image, render_mode=render_mode,
-            n_rooms=n_rooms, **world)
+            min_errand_distance=min_errand_distance, max_places=max_places,
+            success_reward=success_reward, step_cost=step_cost, shaping=shaping,
+            observe_image=observe_image, render_mode=render_mode, n_rooms=n_rooms, **world)
         if n_errands < 1 or errand_steps < 1 or tour_steps_per_room < 1 or name_after < 1:
             raise ValueError("n_errands, errand_steps, tour_steps_per_room and name_after must "
                              f"be positive, got {n_errands}, {errand_steps}, "
                              f"{tour_steps_per_room}, {name_after}")
+        if not min_errand_distance >= 0:
+            raise ValueError(f"min_errand_distance must be 0 or more metres, got "
+                             f"{min_errand_distance}")
         if recognizer_params and not isinstance(recognizer, str):
             raise ValueError("recognizer_params go with a package.module:Class recognizer, "
                              "not with a recognizer object")
@@ -253,8 +269,10 @@ class GuidedTourEnv(NavTask, gym.utils.EzPickle):
                  if isinstance(recognizer, str) else recognizer)
         self.oracle = model is None
         world.setdefault("camera", "forward" if recognizer == "nested" else "panorama")
+        # a recognizer that reads no images (random, none) gets none rendered: the same ids
+        looks = model is not None and reads_images(model)
         nav = PlaceNavEnv(n_rooms=n_rooms, render_mode=render_mode,
-                          panorama=not self.oracle or observe_image, **world)
+                          panorama=looks or observe_image, **world)
         self._place_ids = None if model is None else PlaceIdWrapper(
             nav, model, max_places=max_places, learn=True, reset_map=True)
         self._env: gym.Env = nav if self._place_ids is None else self._place_ids
@@ -262,6 +280,7 @@ class GuidedTourEnv(NavTask, gym.utils.EzPickle):
         self.render_mode = render_mode
         self.n_errands, self.errand_steps = n_errands, errand_steps
         self.tour_steps_per_room, self.name_after = tour_steps_per_room, name_after
+        self.min_errand_distance = min_errand_distance
         self.max_places = max_places
         self.observe_image = observe_image
         self.goal_room = GoalRoom(self.plan, success_reward, step_cost, shaping)
@@ -363,8 +382,8 @@ class GuidedTourEnv(NavTask, gym.utils.EzPickle):
             if t + 1 >= planned and len(named) == n_rooms:
                 break
         ids = np.array(places, np.int64)
-        if self.recognizer is not None and hasattr(self.recognizer, "resolve"):
-            ids = self.recognizer.resolve(ids)
+        if self.recognizer is not None:
+            ids = resolve(self.recognizer, ids)
         self._tour_rooms = np.array(rooms)
         record = TourRecord(ids, np.array(heard, dtype=object), np.array(odometry),
                             np.array(heading), self.nav.model.opt.timestep * self.nav.n_substeps)
@@ -380,17 +399,24 @@ class GuidedTourEnv(NavTask, gym.utils.EzPickle):
 
     def _start_errand(self, info: dict[str, Any]) -> None:
         k = len(self._errands)
-        if k < len(self._goals):
-            goal = self._goals[k]
-        else:
-            if info["room_id"] >= 0:
-                self._room = info["room_id"]
-            here = self.plan.rooms[self._room].name
-            others = [n for n in self._named if n != here] or self._named
-            goal = others[int(self.np_random.integers(len(others)))]
-        self._errands.append(Errand(goal))
+        room = self._last_room(info)
+        goal, redrawn = (self._goals[k], False) if k < len(self._goals) else self._draw_goal(
+            info["pose"], room)
+        self._errands.append(Errand(goal, redrawn=redrawn))
         self._errands[-1].shortest = self.goal_room.start(
-            self.plan.room_by_name(goal).id, info["pose"], room=self._last_room(info))
+            self.plan.room_by_name(goal).id, info["pose"], room=room)
+
+    def _draw_goal(self, pose: Sequence[float], room: int) -> tuple[str, bool]:
+        """A named room other than ``room``; drawn again among those at least
+        ``min_errand_distance`` away if the first draw is closer. Returns (name, redrawn)."""
+        here = self.plan.rooms[room].name
+        others = [n for n in self._named if n != here] or self._named
+        goal = others[int(self.np_random.integers(len(others)))]
+        far = [n for n in others if self.goal_room.walk(self.plan.room_by_name(n).id, pose,
+                                                        room) >= self.min_errand_distance]
+        if goal in far or not far:  # the first draw stands: the same goals as v0 where far
+            return goal, False
+        return far[int(self.np_random.integers(len(far)))], True
 
     def _last_room(self, info: dict[str, Any]) -> int:
         """The room the robot is in or, in a doorway (no room), the one it is leaving."""

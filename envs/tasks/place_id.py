@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import copy
 import time
-from typing import Any, Protocol, SupportsFloat, runtime_checkable
+from typing import Any, SupportsFloat
 
 import gymnasium as gym
 import networkx as nx
@@ -12,20 +12,21 @@ import numpy as np
 from gymnasium import spaces
 
 from placeclust import OnlinePlaceClustering
+from placeclust.protocol import (
+    Localizer,
+    OnlineRecognizer,
+    can_localize,
+    map_full,
+    reads_images,
+    view,
+)
+from placeclust.protocol import reset_position as forget_position
 
 from .tour import building
 
-
-@runtime_checkable
-class Recognizer(Protocol):
-    """What :class:`PlaceIdWrapper` needs of a recognizer (any online one of ``placeclust``)."""
-
-    graph: nx.Graph
-
-    def learn_predict_one(self, frame: np.ndarray) -> int: ...
-
-    @property
-    def n_places(self) -> int: ...
+#: what :class:`PlaceIdWrapper` needs of a recognizer: any online one (the protocol's
+#: optional parts, :mod:`placeclust.protocol`, are used where present)
+Recognizer = OnlineRecognizer
 
 
 def _place_space(n: int, one_hot: bool) -> spaces.Space:
@@ -81,18 +82,20 @@ class PlaceIdWrapper(gym.ObservationWrapper, gym.utils.RecordConstructorArgs):
         gym.ObservationWrapper.__init__(self, env)
         space = env.observation_space
         key = getattr(env.unwrapped, "image_key", "panorama")
-        if not isinstance(space, spaces.Dict) or key not in space.spaces:
+        # a recognizer that says it reads no images (placeclust.null's) is given None instead
+        self.reads_images = reads_images(recognizer)
+        if not isinstance(space, spaces.Dict) or (self.reads_images and key not in space.spaces):
             raise ValueError(f"PlaceIdWrapper needs a Dict observation with an {key!r} image "
                              "(create the env with panorama=True)")
         self.image_key = key
-        if key != "panorama" and getattr(recognizer, "view", "full") == "sides":
+        if key != "panorama" and view(recognizer) == "sides":
             raise ValueError("the recognizer keeps the side views of a 360° panorama "
                              "(view='sides'), but this env's camera looks forward")
         if max_places < 1:
             raise ValueError(f"max_places must be at least 1, got {max_places}")
         if recognizer is None:
             recognizer = OnlinePlaceClustering("orb", max_places=max_places)
-        if not learn and not hasattr(recognizer, "localize_one"):
+        if not learn and not can_localize(recognizer):
             raise ValueError(f"learn=False needs a recognizer with localize_one(); "
                              f"{type(recognizer).__name__} has none")
         self.recognizer = recognizer
@@ -115,8 +118,7 @@ class PlaceIdWrapper(gym.ObservationWrapper, gym.utils.RecordConstructorArgs):
               ) -> tuple[dict[str, Any], dict[str, Any]]:
         if self._initial is not None:
             self.recognizer = copy.deepcopy(self._initial)
-        if hasattr(self.recognizer, "reset_position"):
-            self.recognizer.reset_position()
+        forget_position(self.recognizer)
         obs, info = super().reset(seed=seed, options=options)  # calls observation()
         return obs, {**info, **self._last}
 
@@ -128,17 +130,17 @@ class PlaceIdWrapper(gym.ObservationWrapper, gym.utils.RecordConstructorArgs):
     def observation(self, observation: dict[str, Any]) -> dict[str, Any]:
         """``observation`` with ``place_id`` from one step of the recognizer."""
         start = time.perf_counter()
-        frame = observation[self.image_key]
+        frame = observation[self.image_key] if self.reads_images else None
         recognizer = self.recognizer
-        if self.learn:
-            raw = recognizer.learn_predict_one(frame)
+        if self.learn:  # frame is None only for a recognizer that reads no images
+            raw = recognizer.learn_predict_one(frame)  # type: ignore[arg-type]
         else:
-            assert hasattr(recognizer, "localize_one")  # __init__ refuses learn=False without
-            raw = recognizer.localize_one(frame)
+            assert isinstance(recognizer, Localizer)  # __init__ refuses learn=False without
+            raw = recognizer.localize_one(frame)  # type: ignore[arg-type]
         value = raw if 0 <= raw < self.max_places else self.unknown
         self._last = {"place_id": int(raw), "n_places": self.recognizer.n_places,
                       "map_full": bool(raw >= self.max_places
-                                       or getattr(self.recognizer, "map_full", False))}
+                                       or map_full(self.recognizer))}
         self.place_ms = 1000.0 * (time.perf_counter() - start)
         return {**observation, "place_id": _encode(value, self.max_places + 1, self.one_hot)}
 

@@ -77,3 +77,22 @@ class Shared:
 def test_the_battery_names_what_a_recognizer_breaks(cls, message):
     with pytest.raises(AssertionError, match=message):
         check_recognizer(cls)
+
+
+class Provisional(OnlinePlaceClustering):
+    """Gives a new place's first frame a provisional id that it merges away at once, as
+    consolidation merges a room seen anew into its place."""
+
+    def learn_predict_one(self, frame: np.ndarray) -> int:
+        before = self.n_places
+        place = super().learn_predict_one(frame)
+        return place + 100 if self.n_places > before else place
+
+    def resolve(self, places: np.ndarray) -> np.ndarray:
+        ids = np.asarray(places, np.int64)
+        return np.where(ids >= 100, ids - 100, ids)
+
+
+def test_a_recognizer_that_merges_places_is_judged_by_what_its_ids_resolve_to():
+    check_recognizer(Provisional)  # ids 100, 0, 0, 101, 1, 1: two places
+    check_recognizer(OnlinePlaceClustering, {**PANORAMA, "consolidate": 0.85})

@@ -6,11 +6,11 @@ import envs  # noqa: F401
 from envs.agents.hints import N_FEATURES, PlannerHints, residual
 
 TASK = {"recognizer": "oracle", "n_rooms": 3, "n_errands": 1, "tour_steps_per_room": 40,
-        "errand_steps": 80}
+        "errand_steps": 300}  # v1: the first errand walks 3 m
 
 
 def test_a_zero_correction_is_the_planner():
-    env = PlannerHints(gym.make("PlaceNav-GuidedTour-v0", scene_seed=0, **TASK))
+    env = PlannerHints(gym.make("PlaceNav-GuidedTour-v1", scene_seed=0, **TASK))
     try:
         obs, _ = env.reset(seed=0)
         assert obs.shape == (N_FEATURES,) and obs in env.observation_space

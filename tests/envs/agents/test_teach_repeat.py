@@ -39,7 +39,7 @@ def test_the_planner_runs_errands_on_true_rooms():
 
 
 def test_without_place_ids_the_planner_explores_and_never_crashes():
-    env = gym.make("PlaceNav-GuidedTour-v0", recognizer="none", n_errands=1, errand_steps=30,
+    env = gym.make("PlaceNav-GuidedTour-v1", recognizer="none", n_errands=1, errand_steps=30,
                    panorama_width=64, panorama_height=16, **SMALL)
     try:
         obs, info = env.reset(seed=0)
@@ -56,7 +56,7 @@ def test_without_place_ids_the_planner_explores_and_never_crashes():
 
 
 def test_a_hop_replays_the_tour_where_it_crossed():
-    env = gym.make("PlaceNav-GuidedTour-v0", recognizer="oracle", n_errands=1, **SMALL)
+    env = gym.make("PlaceNav-GuidedTour-v1", recognizer="oracle", n_errands=1, **SMALL)
     try:
         obs, info = env.reset(seed=2)
     finally:

@@ -39,12 +39,16 @@ def tiny_bench(tmp_path_factory):
     return out, rows
 
 
-def test_matrix_leaves_cross_condition_to_online() -> None:
+def test_matrix_gives_cross_condition_to_recognizers_that_localize() -> None:
     runs = TINY.runs()
     assert [(r.algo, r.condition) for r in runs] == [
         ("online", "day"), ("kmeans", "day"), ("online", "day>night")]
     assert len({r.key for r in runs}) == len(runs)
     assert runs[0].key == replace(runs[0]).key  # a hash of the configuration, not of identity
+    assert TINY.skipped() == ["kmeans on day>night"]
+    nested = replace(TINY, algos=("nested", "kmeans", "stream"))
+    assert [r.algo for r in nested.runs() if ">" in r.condition] == ["nested"]
+    assert nested.skipped() == ["kmeans on day>night", "stream on day>night"]
 
 
 @pytest.mark.parametrize("bad, message", [
@@ -74,6 +78,7 @@ def test_report_files(tiny_bench) -> None:
         assert img[..., :3].std() > 10, f"{name} is blank"
     table = (out / "results.md").read_text()
     assert "| online (orb) | day |" in table and "| online (orb) | day>night |" in table
+    assert "cannot localize on a fixed map: kmeans on day>night." in table
     config = json.loads((out / "config.json").read_text())
     assert config["matrix"]["steps_per_room"] == 12 and config["versions"]["numpy"]
 
@@ -177,14 +182,15 @@ def test_one_table_of_conditions_serves_the_scene_the_cli_and_the_bench():
     assert tuple(lighting.choices) == LIGHTING
 
 
-def test_summary_reports_the_worst_run_and_the_share_meeting_the_bar() -> None:
+def test_summary_reports_intervals_the_worst_run_and_the_share_meeting_the_bar() -> None:
     from envs.commands.bench_report import summary_table
 
-    def row(precision: float, nmi: float, places: int) -> dict:
+    def row(precision: float, nmi: float, places: int, scene: int = 0) -> dict:
         return {"algo": "online", "features": "sift", "condition": "day", "params": (),
                 "precision": precision, "recall": 0.5, "nmi": nmi, "ari": 0.5,
-                "n_places": places, "n_rooms": 4, "ms_per_frame": 10.0}
+                "n_places": places, "n_rooms": 4, "ms_per_frame": 10.0, "scene_seed": scene}
 
+    # one building: no interval to give
     table = summary_table([row(0.99, 0.85, 6), row(0.93, 0.90, 8), row(0.97, 0.82, 9)])
     line = table.splitlines()[2]
     assert "| 0.963 (0.930) |" in line  # precision: mean (worst)
@@ -192,6 +198,10 @@ def test_summary_reports_the_worst_run_and_the_share_meeting_the_bar() -> None:
     assert "| 1/3 |" in line  # only the first run meets all three bars
     orb = [{**r, "features": "orb"} for r in (row(0.99, 0.5, 12), row(0.93, 0.5, 13))]
     assert "| 1/2 |" in summary_table(orb).splitlines()[2]  # ORB's bar: 3 places per room
+    # three buildings: each figure with its interval over them
+    line = summary_table([row(0.99, 0.85, 6, 0), row(0.93, 0.90, 8, 1),
+                          row(0.97, 0.82, 9, 2)]).splitlines()[2]
+    assert "| 0.963 [0.930, 0.983] (0.930) |" in line and "| 1/3 [0.00, 1.00] |" in line
 
 
 @pytest.mark.parametrize("k", ["rooms", "online"])
@@ -206,3 +216,11 @@ def test_offline_methods_can_be_given_the_rooms_or_the_online_place_count(tmp_pa
                               tmp_path / "online", workers=1, progress=False)
         assert row["n_places"] == online["n_places"]
     assert f"n_clusters={k}" in (tmp_path / "results.md").read_text()
+
+
+def test_nested_localizes_across_conditions(tmp_path) -> None:
+    matrix = replace(TINY, algos=("nested",), features=("sift",), conditions=("day>night",),
+                     latency_sizes=())
+    (row,) = run_bench(matrix, tmp_path, workers=1, progress=False)
+    assert row["condition"] == "day>night" and 0.0 <= row["precision"] <= 1.0
+    assert row["map_precision"] > 0.0

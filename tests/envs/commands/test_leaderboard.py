@@ -8,8 +8,9 @@ import pytest
 
 import envs  # noqa: F401
 from envs.commands import closed_loop
-from envs.commands.closed_loop import agent_fingerprint, run_jobs, summarize
+from envs.commands.closed_loop import job_fingerprint, run_jobs
 from envs.commands.leaderboard import leaderboard, rank_agreement
+from envs.commands.results import summarize
 from train import evaluate
 
 
@@ -24,41 +25,56 @@ def test_the_leaderboard_resumes_and_ranks(tmp_path):
     assert [f.stat().st_mtime_ns for f in files] == stamp
     summary = summarize(rows)
     assert summary["errands"] == 2 and summary["success_rate"] == 1.0
-    table = leaderboard([summary, {**summary, "recognizer": "random", "success_rate": 0.1}])
+    assert summary["success_rate_interval"] == [1.0, 1.0]  # every building alike
+    table = leaderboard([summary, {**summary, "recognizer": "random", "success_rate": 0.1,
+                                   "success_rate_interval": [0.0, 0.3]}])
     assert table.index("oracle") < table.index("random")
+    assert "| random | 0.10 [0.00, 0.30] |" in table
     fake = [{"success_rate": s, "nmi": n} for s, n in ((1, 1), (0.5, 0.6), (0.1, 0.2))]
     assert rank_agreement(fake) == pytest.approx(1.0)
 
 
-def test_the_leaderboard_runs_again_for_another_agent(tmp_path, monkeypatch):
+@pytest.mark.parametrize(("what", "changed"), [
+    ("job_fingerprint", lambda job: "edited planner"),
+    ("library_versions", lambda: {"mujoco": "another"}),
+    ("render_fingerprint", lambda: "another Mesa"),
+])
+def test_a_stale_result_is_run_again_and_said(tmp_path, monkeypatch, capsys, what, changed):
     jobs = [{"scene_seed": 0, "recognizer": "oracle", "goals": 1, "seed": 0, "agent": "planner",
              "n_rooms": 3}]
     run_jobs(jobs, tmp_path, progress=False)
     (kept,) = (tmp_path / "runs").glob("*.json")
     stamp = kept.stat().st_mtime_ns
-    monkeypatch.setattr(closed_loop, "agent_fingerprint", lambda job: "edited planner")
+    monkeypatch.setattr(closed_loop, what, changed)
     (row,) = run_jobs(jobs, tmp_path, progress=False)
-    assert kept.stat().st_mtime_ns != stamp and row["agent_fingerprint"] == "edited planner"
+    assert kept.stat().st_mtime_ns != stamp and row["stamp"] == closed_loop.stamp(jobs[0])
+    assert "1 kept results" in capsys.readouterr().err
 
 
-def test_the_agent_fingerprint_follows_the_policy_file(tmp_path):
+def test_the_job_fingerprint_follows_the_code_and_the_policy_file(tmp_path, monkeypatch):
     job = {"agent": "ppo", "policy": str(tmp_path / "a.zip")}
     (tmp_path / "a.zip").write_bytes(b"one policy")
-    first = agent_fingerprint(job)
+    first = job_fingerprint(job)
     (tmp_path / "a.zip").write_bytes(b"the policy trained again")
-    assert agent_fingerprint(job) != first
-    assert agent_fingerprint({"agent": "planner"}) == agent_fingerprint({"agent": "planner"})
+    assert job_fingerprint(job) != first
+    assert job_fingerprint({"agent": "planner"}) == job_fingerprint({"agent": "planner"})
+    planner = job_fingerprint({"agent": "planner"})
+    monkeypatch.setattr(closed_loop, "_code_digest", lambda: b"the recognizer edited")
+    assert job_fingerprint({"agent": "planner"}) != planner
 
 
-def test_evaluate_unseen_writes_the_contracted_scores(tmp_path, capsys):
+def test_evaluate_unseen_writes_a_results_file(tmp_path, capsys):
     out = tmp_path / "scores.json"
-    code = evaluate.main(["--task", "unseen", "--scene-seeds", "0", "--rooms", "3",
+    code = evaluate.main(["--task", "unseen", "--scene-seeds", "0", "1", "--rooms", "3",
                           "--recognizer", "oracle", "--goals-per-scene", "2", "--seed", "1",
-                          "--json", str(out)])
+                          "--json", str(out), "--tour-steps-per-room", "40"])
     assert code == 0
-    scores = json.loads(out.read_text())
+    doc = json.loads(out.read_text())
+    (scores,) = doc["summaries"]
     for key in ("success_rate", "spl", "mean_length", "precision", "nmi", "n_places"):
-        assert math.isfinite(scores[key])
+        assert math.isfinite(scores[key]) and len(scores[f"{key}_interval"]) == 2
+    assert doc["settings"]["scene_seeds"] == [0, 1] and len(doc["buildings"]) == 2
+    assert doc["provenance"]["suite"] is None and doc["provenance"]["render_fingerprint"]
     assert "success_rate=" in capsys.readouterr().out
     # a recognizer that is not one is named before any building of the split is toured
     assert evaluate.main(["--task", "unseen", "--split", "test", "--recognizer", "psychic"]) == 2

@@ -10,7 +10,7 @@ SMALL = {"n_rooms": 3, "n_errands": 2, "tour_steps_per_room": 40, "errand_steps"
 @pytest.fixture
 def make_tour(made):
     def _make(**kwargs):
-        made.append(gym.make("PlaceNav-GuidedTour-v0", **{**SMALL, **kwargs}))
+        made.append(gym.make("PlaceNav-GuidedTour-v1", **{**SMALL, **kwargs}))
         return made[-1]
 
     return _make
@@ -83,3 +83,40 @@ def test_seed_001_gets_its_forward_camera_and_bad_names_are_refused():
         GuidedTourEnv(recognizer="psychic", **SMALL)
     with pytest.raises(ValueError, match="positive"):
         GuidedTourEnv(recognizer="oracle", n_errands=0)
+
+
+def test_an_errand_starts_a_metre_or_more_of_walking_from_its_goal():
+    from envs.commands.closed_loop import run_scene
+
+    def errands(**kw):
+        return run_scene(0, n_rooms=3, recognizer="oracle", goals=6, seed=0,
+                         tour_steps_per_room=40, **kw)["errands"]
+
+    near = errands(min_errand_distance=0.0)  # v0: the room behind the door just reached
+    assert min(e["shortest"] for e in near) < 0.5 and not any(e["redrawn"] for e in near)
+    far = errands()
+    assert min(e["shortest"] for e in far) >= 1.0 and any(e["redrawn"] for e in far)
+    with pytest.raises(ValueError, match="min_errand_distance"):
+        GuidedTourEnv(recognizer="oracle", min_errand_distance=float("nan"))
+
+
+def test_a_recognizer_that_reads_no_images_gets_none_rendered_and_the_same_ids(make_tour):
+    from placeclust.null import RandomPlaces
+
+    class Seeing(RandomPlaces):
+        reads_images = True
+
+    def episode(recognizer):
+        env = make_tour(recognizer=recognizer)
+        obs, info = env.reset(seed=3)
+        done = False
+        while not done:
+            obs, _, done, _, step = env.step(np.array([0.6, 0.2], np.float32))
+        return env, info["tour"].place_id, step["errands"]
+
+    blind, ids, errands = episode(RandomPlaces(n_ids=6))
+    seeing, seen_ids, seen_errands = episode(Seeing(n_ids=6))
+    image = blind.unwrapped.nav.image_key
+    assert image not in blind.unwrapped.nav.observation_space.spaces
+    assert image in seeing.unwrapped.nav.observation_space.spaces
+    assert np.array_equal(ids, seen_ids) and errands == seen_errands

@@ -28,7 +28,8 @@ IDS = sorted(spec.id for spec in gym.registry.values()
 
 
 def test_the_package_registers_its_envs():
-    assert IDS == ["PlaceNav-GuidedTour-v0", "PlaceNav-ReachRoom-v0", "PlaceNav-v0"]
+    assert IDS == ["PlaceNav-GuidedTour-v0", "PlaceNav-GuidedTour-v1", "PlaceNav-ReachRoom-v0",
+                   "PlaceNav-v0"]
 
 
 @pytest.mark.parametrize("env_id", IDS)

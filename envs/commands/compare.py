@@ -1,0 +1,169 @@
+"""``placeclust compare``: two recognizers, paired on the same buildings, with intervals.
+
+    placeclust compare runs/a/results.json runs/b/results.json [--a NAME] [--b NAME] [--force] \\
+        [--docs docs/benchmarks.md]
+
+Each file is a results file (:mod:`envs.commands.results`: ``placeclust leaderboard`` writes
+``OUT/results.json``, ``placeclust errands --json FILE``); both may be one file with ``--a`` and
+``--b`` naming two of its recognizers. For each metric the table gives both means, the paired
+difference A − B with its 95% interval from a bootstrap over the shared buildings, and the
+probability of improvement P(A > B) (:mod:`placeclust.stats`). A difference whose interval
+holds 0 is not a difference the sample can decide, and the verdict line says so.
+
+Results are comparable only from the same buildings, errands and tours, rendered alike: files
+from different suites, settings or buildings, or with different render fingerprints, are
+refused (exit 2) with what differs; ``--force`` compares them anyway on the buildings they
+share and prints every difference as a ``FLAG`` line above the table. Different package
+versions or agents are noted, not refused: comparing two versions, or two agents on one
+recognizer's maps, is what a change is judged by.
+"""
+
+from __future__ import annotations
+
+import argparse
+import re
+import shlex
+import sys
+from pathlib import Path
+from typing import Any
+
+from placeclust.docs_section import write_section
+from placeclust.stats import paired_difference, probability_of_improvement
+
+from .results import groups, load_results
+
+#: below this many buildings a bootstrap interval covers too little to decide on
+FEW = 10
+#: the rows of the table, in order
+METRICS = ("success_rate", "spl", "mean_length", "precision", "nmi", "places_per_room")
+
+
+def _pick(doc: dict[str, Any], name: str | None, path: Path, flag: str) -> str:
+    names = [s["recognizer"] for s in doc["summaries"]]
+    if name is None:
+        if len(names) != 1:
+            raise ValueError(f"{path} holds {names}; name one with {flag}")
+        return names[0]
+    if name not in names:
+        raise ValueError(f"{path} has no recognizer {name!r}; it holds {names}")
+    return name
+
+
+def differences(a: dict[str, Any], b: dict[str, Any]) -> list[str]:
+    """What makes two results files incomparable: suite, settings, render, buildings."""
+    found = []
+    pa, pb = a["provenance"], b["provenance"]
+    for key in ("suite", "size", "render_fingerprint"):
+        if pa.get(key) != pb.get(key):
+            found.append(f"{key}: {pa.get(key)} against {pb.get(key)}")
+    # what runs on the buildings, recognizer and agent, is what a comparison is about
+    sa = {k: v for k, v in a["settings"].items() if k not in ("recognizers", "agent")}
+    sb = {k: v for k, v in b["settings"].items() if k not in ("recognizers", "agent")}
+    for key in sorted(set(sa) | set(sb)):
+        if sa.get(key) != sb.get(key):
+            found.append(f"settings {key}: {sa.get(key)} against {sb.get(key)}")
+    return found
+
+
+def paired_rows(a: dict[str, Any], b: dict[str, Any], name_a: str, name_b: str
+                ) -> tuple[list[dict[str, Any]], list[dict[str, Any]]]:
+    """The two recognizers' rows on the buildings both ran, in the same order."""
+    ra = {r["scene_seed"]: r for r in a["buildings"] if r["recognizer"] == name_a}
+    rb = {r["scene_seed"]: r for r in b["buildings"] if r["recognizer"] == name_b}
+    shared = sorted(set(ra) & set(rb))
+    if len(shared) < 2:
+        raise ValueError(f"{name_a} and {name_b} share {len(shared)} buildings; a paired "
+                         "interval needs at least 2")
+    return [ra[s] for s in shared], [rb[s] for s in shared]
+
+
+def table(rows_a: list[dict[str, Any]], rows_b: list[dict[str, Any]], name_a: str,
+          name_b: str) -> tuple[str, dict[str, dict[str, float]]]:
+    """The markdown table of paired differences, and its figures by metric."""
+    lines = [f"| metric | A: {name_a} | B: {name_b} | A − B [95% interval] | P(A > B) |",
+             "|---|---|---|---|---|"]
+    figures = {}
+    for metric in METRICS:
+        ga, gb = groups(rows_a, metric), groups(rows_b, metric)
+        diff = paired_difference(ga, gb)
+        better = probability_of_improvement(ga, gb)
+        mean_a, mean_b = diff.mean + _mean(gb), _mean(gb)
+        digits = 0 if metric == "mean_length" else 3
+        lines.append(f"| {metric} | {mean_a:.{digits}f} | {mean_b:.{digits}f} | "
+                     f"{diff.text(digits)} | {better.text(2)} |")
+        figures[metric] = {"a": mean_a, "b": mean_b, "difference": diff.mean,
+                           "low": diff.low, "high": diff.high, "p_improvement": better.mean}
+    return "\n".join(lines), figures
+
+
+def _mean(group: list[list[float]]) -> float:
+    values = [v for g in group for v in g]
+    return sum(values) / len(values)
+
+
+def verdict(figures: dict[str, dict[str, float]], name_a: str, name_b: str, n: int) -> str:
+    """One line on errand success: which is better, or that the sample cannot decide; under
+    :data:`FEW` buildings a caution that the interval is too narrow to rely on."""
+    s = figures["success_rate"]
+    if s["low"] > 0 or s["high"] < 0:
+        best, worst = (name_a, name_b) if s["difference"] > 0 else (name_b, name_a)
+        line = (f"On {n} buildings {best} succeeds more often than {worst}: the difference's "
+                "interval excludes 0.")
+    else:
+        line = (f"On {n} buildings the sample cannot decide between {name_a} and {name_b} on "
+                f"errand success: the difference's interval [{s['low']:.3f}, {s['high']:.3f}] "
+                "holds 0.")
+    if n < FEW:
+        line += (f" With fewer than {FEW} buildings a bootstrap interval is too narrow (few "
+                 "distinct resamples): read it as a pilot, not a decision.")
+    return line
+
+
+def main(argv: list[str] | None = None, prog: str = "placeclust compare") -> int:
+    p = argparse.ArgumentParser(prog=prog, description=__doc__,
+                                formatter_class=argparse.RawDescriptionHelpFormatter)
+    p.add_argument("a", type=Path, help="results file of recognizer A")
+    p.add_argument("b", type=Path, help="results file of recognizer B (may be the same file)")
+    p.add_argument("--a", dest="name_a", metavar="NAME", help="A's recognizer, if the file "
+                   "holds several")
+    p.add_argument("--b", dest="name_b", metavar="NAME", help="B's recognizer, likewise")
+    p.add_argument("--force", action="store_true", help="compare results from different "
+                   "suites, settings, renders or buildings, on the buildings they share")
+    p.add_argument("--docs", metavar="FILE", help="also write the table into FILE's section "
+                   "compare-<A>-<B> (docs/benchmarks.md)")
+    argv = sys.argv[1:] if argv is None else list(argv)
+    args = p.parse_args(argv)
+    try:
+        a, b = load_results(args.a), load_results(args.b)
+        name_a = _pick(a, args.name_a, args.a, "--a")
+        name_b = _pick(b, args.name_b, args.b, "--b")
+        found = differences(a, b)
+        if found and not args.force:
+            raise ValueError("these results are not comparable (--force to compare them "
+                             "anyway): " + "; ".join(found))
+        rows_a, rows_b = paired_rows(a, b, name_a, name_b)
+    except ValueError as e:
+        print(f"error: {e}", file=sys.stderr)
+        return 2
+    for line in found:
+        print(f"FLAG {line}")
+    va, vb = (d["provenance"]["versions"].get("placeclust") for d in (a, b))
+    if va != vb:
+        print(f"note: placeclust {va} against {vb}")
+    agents = a["settings"].get("agent"), b["settings"].get("agent")
+    if agents[0] != agents[1]:  # the same recognizer under two agents: say which is which
+        name_a, name_b = f"{name_a} ({agents[0]})", f"{name_b} ({agents[1]})"
+    text, figures = table(rows_a, rows_b, name_a, name_b)
+    body = (f"Paired on {len(rows_a)} buildings {[r['scene_seed'] for r in rows_a]}, suite "
+            f"{a['provenance'].get('suite')} ({a['provenance'].get('size')}); errand figures "
+            f"errand-weighted.\n\n{text}\n\n{verdict(figures, name_a, name_b, len(rows_a))}")
+    print(body)
+    if args.docs:
+        slug = "-".join(re.sub(r"[^a-z0-9]+", "-", n.lower()).strip("-")
+                        for n in (name_a, name_b))
+        write_section(args.docs, f"compare-{slug}", body, shlex.join([*prog.split(), *argv]))
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,100 @@
+"""Closed-loop results files: per-building rows, their summaries with intervals, provenance.
+
+``placeclust leaderboard`` (``OUT/results.json``) and ``placeclust errands --json`` write one
+format, which ``placeclust compare`` reads::
+
+    {"format": "placeclust-results/1", "provenance": {suite, size, versions, render_fingerprint},
+     "settings": {split, scene_seeds, rooms, goals, seed, agent, task},
+     "summaries": [{recognizer, success_rate, success_rate_interval, ...}, ...],
+     "buildings": [one row per (recognizer, building): its errands and its tour's map scores]}
+
+Every figure of a summary is a mean over errands (or tours) with its 95% interval from a
+bootstrap over buildings (:mod:`placeclust.stats`).
+"""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+from typing import Any
+
+from placeclust.atomic import write_atomic
+from placeclust.stats import Estimate, buildings_for, interval
+
+FORMAT = "placeclust-results/1"
+#: per-errand figures (one value per errand) and per-tour ones (one per building)
+ERRAND_METRICS = ("success_rate", "spl", "mean_length")
+TOUR_METRICS = ("precision", "nmi", "n_places", "places_per_room")
+_ERRAND_KEY = {"success_rate": "success", "spl": "spl", "mean_length": "steps"}
+#: the half-widths a full-size suite is sized for (docs/design.md, "How many buildings")
+TARGET_HALF_WIDTH = {"success_rate": 0.05, "spl": 0.05, "precision": 0.01}
+
+
+def groups(rows: list[dict[str, Any]], metric: str) -> list[list[float]]:
+    """One list of values per building (row): its errands' values of an errand metric, or
+    its tour's single value of a tour metric."""
+    if metric in _ERRAND_KEY:
+        return [[float(e[_ERRAND_KEY[metric]]) for e in r["errands"]] for r in rows]
+    if metric in TOUR_METRICS:
+        return [[float(r[metric])] for r in rows]
+    raise ValueError(f"unknown metric {metric!r}; choose one of "
+                     f"{ERRAND_METRICS + TOUR_METRICS}")
+
+
+def estimate(rows: list[dict[str, Any]], metric: str) -> Estimate:
+    """``metric``'s mean over the rows' buildings with its bootstrap interval."""
+    return interval(groups(rows, metric))
+
+
+def summarize(rows: list[dict[str, Any]]) -> dict[str, Any]:
+    """One recognizer's rows as scores over buildings: each metric's mean, its interval
+    (``<metric>_interval``: [low, high]), the worst building's success, how many errands were
+    redrawn to start 1 m from their goal, and for :data:`TARGET_HALF_WIDTH`'s metrics the
+    buildings a sample like this one needs to reach it (``<metric>_buildings_needed``)."""
+    if not rows:
+        raise ValueError("no rows to summarize")
+    errands = [e for r in rows for e in r["errands"]]
+    out: dict[str, Any] = {
+        "recognizer": rows[0]["recognizer"], "agent": rows[0]["agent"],
+        "scenes": [r["scene_seed"] for r in rows], "errands": len(errands),
+        "redrawn": sum(bool(e.get("redrawn")) for e in errands),
+        "worst_scene_success": float(min(r["success_rate"] for r in rows)),
+        "seconds": float(sum(r["seconds"] for r in rows)),
+    }
+    for metric in ERRAND_METRICS + TOUR_METRICS:
+        est = estimate(rows, metric)
+        out[metric], out[f"{metric}_interval"] = est.mean, [est.low, est.high]
+        if metric in TARGET_HALF_WIDTH and len(rows) >= 2:
+            out[f"{metric}_buildings_needed"] = buildings_for(groups(rows, metric),
+                                                              TARGET_HALF_WIDTH[metric])
+    return out
+
+
+def interval_text(summary: dict[str, Any], metric: str, digits: int = 2) -> str:
+    """``"0.82 [0.68, 0.91]"`` from a summary."""
+    low, high = summary[f"{metric}_interval"]
+    return Estimate(summary[metric], low, high, len(summary["scenes"])).text(digits)
+
+
+def write_results(path: Path, rows: list[dict[str, Any]], recognizers: list[str],
+                  settings: dict[str, Any], provenance: dict[str, Any]) -> dict[str, Any]:
+    """Summarize ``rows`` per recognizer and write the results file atomically; its content."""
+    summaries = [summarize([r for r in rows if r["recognizer"] == name]) for name in recognizers]
+    doc = {"format": FORMAT, "provenance": provenance, "settings": settings,
+           "summaries": summaries, "buildings": rows}
+    text = json.dumps(doc, indent=1).encode()
+    path.parent.mkdir(parents=True, exist_ok=True)
+    write_atomic(path, lambda f: f.write(text))
+    return doc
+
+
+def load_results(path: Path) -> dict[str, Any]:
+    """A results file; a ``ValueError`` naming the file if it is not one."""
+    try:
+        doc = json.loads(Path(path).read_text())
+    except (OSError, json.JSONDecodeError) as exc:
+        raise ValueError(f"{path}: cannot read a results file ({exc})") from exc
+    if not isinstance(doc, dict) or doc.get("format") != FORMAT:
+        raise ValueError(f"{path} is not a {FORMAT} results file (written by placeclust "
+                         "leaderboard or placeclust errands --json)")
+    return doc

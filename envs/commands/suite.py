@@ -1,0 +1,141 @@
+"""Frozen benchmark suites: which buildings, tours and errands a result is measured on.
+
+A suite is named and versioned (``placenav-v1``) and never changes once published: a new
+choice is a new version. Every results file records the suite it ran (or none), the package
+version, the versions of the libraries that render and match, and a *render fingerprint*, a
+hash of a few reference frames: Mesa, MuJoCo or a texture change that moves one pixel changes
+it, so a result from another machine says whether it is comparable
+(:func:`provenance`, checked by ``placeclust compare``).
+
+Examples:
+    >>> from envs.commands.suite import SUITES
+    >>> suite = SUITES["placenav-v1"]
+    >>> suite.split, suite.n_rooms, suite.goals
+    ('test', 6, 5)
+    >>> suite.scene_seeds("quick") == list(range(2000, 2000 + suite.n_quick))
+    True
+"""
+
+from __future__ import annotations
+
+import functools
+import hashlib
+import platform
+from collections.abc import Mapping
+from dataclasses import asdict, dataclass
+from importlib.metadata import PackageNotFoundError, version
+from types import MappingProxyType
+from typing import Any
+
+import numpy as np
+
+from placeclust import __version__
+
+from ..world.splits import SPLITS
+
+#: the sizes a suite runs at: ``full`` (what the docs report), ``quick`` (a check in minutes),
+#: ``long`` (the long-tour track: fewer buildings, tours of ``long_tour_steps_per_room``)
+SIZES = ("full", "quick", "long")
+
+
+@dataclass(frozen=True)
+class Suite:
+    """A benchmark's definition: its buildings, tours, errands, seed and metrics.
+
+    Attributes:
+        name: ``<family>-v<N>``.
+        env_id: the task every building runs.
+        split: where its buildings come from (``test``: report only).
+        n_buildings, n_quick, n_long: buildings of the full, quick and long-tour sizes (the
+            first ones of ``split``).
+        n_rooms: rooms per building.
+        goals: errands per building after the tour.
+        seed: the episode seed (the tour's route, the errands' goals).
+        tour_steps_per_room, long_tour_steps_per_room: the tour's length per room.
+        metrics: what its tables report, each a mean with its interval over buildings.
+    """
+
+    name: str
+    env_id: str
+    split: str
+    n_buildings: int
+    n_quick: int
+    n_long: int
+    n_rooms: int
+    goals: int
+    seed: int
+    tour_steps_per_room: int
+    long_tour_steps_per_room: int
+    metrics: tuple[str, ...] = ("success_rate", "spl", "precision", "nmi", "places_per_room")
+
+    def scene_seeds(self, size: str = "full") -> list[int]:
+        """The buildings of one of :data:`SIZES`."""
+        n = {"full": self.n_buildings, "quick": self.n_quick, "long": self.n_long}.get(size)
+        if n is None:
+            raise ValueError(f"unknown size {size!r}; choose one of {SIZES}")
+        return list(SPLITS[self.split][:n])
+
+    def task(self, size: str = "full") -> dict[str, Any]:
+        """The guided tour's arguments beyond the building (``tour_steps_per_room``)."""
+        steps = self.long_tour_steps_per_room if size == "long" else self.tour_steps_per_room
+        return {"tour_steps_per_room": steps}
+
+
+#: the published suites; never edit one, add the next version
+SUITES: Mapping[str, Suite] = MappingProxyType({
+    # sized by the pilot on val (docs/benchmarks.md, "How many buildings"): 60 buildings give
+    # every recognizer piloted a half-width <= 0.05 on success and SPL and <= 0.01 on the tour
+    # map's precision; 5 errands a building, as 10 let one lost robot fail a building's rest
+    "placenav-v1": Suite(name="placenav-v1", env_id="PlaceNav-GuidedTour-v1", split="test",
+                         n_buildings=60, n_quick=4, n_long=4, n_rooms=6, goals=5, seed=0,
+                         tour_steps_per_room=150, long_tour_steps_per_room=500),
+})
+
+
+def get_suite(name: str) -> Suite:
+    """The suite called ``name``; a ``ValueError`` naming the suites there are."""
+    if name not in SUITES:
+        raise ValueError(f"unknown suite {name!r}; choose one of {sorted(SUITES)}")
+    return SUITES[name]
+
+
+def library_versions() -> dict[str, str]:
+    """The versions of placeclust, Python and the libraries that render, match and learn."""
+    out = {"placeclust": __version__, "python": platform.python_version(),
+           "machine": platform.machine()}
+    for pkg in ("numpy", "opencv-contrib-python-headless", "scikit-learn", "scipy", "mujoco",
+                "mahotas"):
+        try:
+            out[pkg] = version(pkg)
+        except PackageNotFoundError:
+            out[pkg] = ""
+    return out
+
+
+@functools.cache
+def render_fingerprint() -> str:
+    """A hash of reference frames: three panoramas and a forward view of one fixed building.
+
+    Two machines with the same fingerprint render the benchmark's worlds pixel for pixel
+    alike; results with different ones may differ for that reason alone.
+    """
+    from ..tasks.place_nav import PlaceNavEnv  # its package sets MUJOCO_GL first
+
+    digest = hashlib.sha256()
+    for camera, seeds in (("panorama", (0, 1, 2)), ("forward", (0,))):
+        env = PlaceNavEnv(scene_seed=0, n_rooms=4, camera=camera)
+        try:
+            for seed in seeds:
+                obs, _ = env.reset(seed=seed)
+                digest.update(np.ascontiguousarray(obs[env.image_key]).tobytes())
+        finally:
+            env.close()
+    return digest.hexdigest()[:16]
+
+
+def provenance(suite: Suite | None, size: str = "full") -> dict[str, Any]:
+    """What a results file records so another can be told comparable or not: the suite (its
+    definition too) and size, or none, the library versions and the render fingerprint."""
+    return {"suite": None if suite is None else suite.name, "size": size if suite else None,
+            "definition": None if suite is None else asdict(suite),
+            "versions": library_versions(), "render_fingerprint": render_fingerprint()}

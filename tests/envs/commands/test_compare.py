@@ -1,0 +1,95 @@
+"""``placeclust compare``: two recognizers paired on the same buildings, or refused."""
+
+import copy
+import json
+
+import pytest
+
+from envs.commands import compare
+from envs.commands.results import load_results, write_results
+
+PROVENANCE = {"suite": "placenav-v1", "size": "quick", "definition": {},
+              "versions": {"placeclust": "0.13.0"}, "render_fingerprint": "abc"}
+SETTINGS = {"split": "test", "scene_seeds": [0, 1, 2, 3], "rooms": 6, "goals": 4, "seed": 0,
+            "agent": "planner", "task": {}}
+
+
+def _row(recognizer, scene, successes, precision):
+    errands = [{"goal": "a", "success": bool(s), "steps": 100 if s else 500, "path": 5.0,
+                "shortest": 4.0, "spl": 0.8 * s, "redrawn": False} for s in successes]
+    return {"scene_seed": scene, "recognizer": recognizer, "agent": "planner",
+            "success_rate": sum(successes) / len(successes), "errands": errands,
+            "precision": precision, "nmi": precision - 0.1, "n_places": 8,
+            "places_per_room": 1.3, "seconds": 1.0}
+
+
+@pytest.fixture
+def results(tmp_path):
+    """One file with a good and a poor recognizer on four buildings."""
+    rows = [_row("good", s, [1, 1, 1, 1], 0.99) for s in range(4)]
+    rows += [_row("poor", s, [1, 0, 0, 0], 0.80 + 0.01 * s) for s in range(4)]
+    path = tmp_path / "results.json"
+    write_results(path, rows, ["good", "poor"], SETTINGS, PROVENANCE)
+    return path
+
+
+def test_compare_prints_the_paired_table_and_the_verdict(results, capsys):
+    assert compare.main([str(results), str(results), "--a", "good", "--b", "poor"]) == 0
+    out = capsys.readouterr().out
+    assert "| success_rate | 1.000 | 0.250 | 0.750 [0.750, 0.750] | 0.88 [0.88, 0.88] |" in out
+    assert "good succeeds more often than poor" in out and "FLAG" not in out
+    assert "read it as a pilot" in out  # 4 buildings: too few to decide on
+    docs = results.parent / "benchmarks.md"
+    compare.main([str(results), str(results), "--a", "good", "--b", "poor", "--docs", str(docs)])
+    assert "BEGIN GENERATED compare-good-poor" in docs.read_text()
+
+
+def test_compare_says_when_the_sample_cannot_decide(results, capsys):
+    doc = load_results(results)
+    for row in doc["buildings"]:  # in building 0 poor now wins outright: no decision
+        if row["scene_seed"] == 0:
+            for e in row["errands"]:
+                e["success"] = row["recognizer"] == "poor"
+    results.write_text(json.dumps(doc))
+    compare.main([str(results), str(results), "--a", "good", "--b", "poor"])
+    assert "cannot decide" in capsys.readouterr().out
+
+
+@pytest.mark.parametrize(("field", "value", "message"), [
+    (("provenance", "suite"), "placenav-v2", "suite: placenav-v1 against placenav-v2"),
+    (("provenance", "render_fingerprint"), "def", "render_fingerprint: abc against def"),
+    (("settings", "goals"), 5, "settings goals: 4 against 5"),
+])
+def test_results_from_another_suite_or_render_are_refused_or_flagged(
+        results, tmp_path, capsys, field, value, message):
+    other = copy.deepcopy(load_results(results))
+    other[field[0]][field[1]] = value
+    path = tmp_path / "other.json"
+    path.write_text(json.dumps(other))
+    argv = [str(results), str(path), "--a", "good", "--b", "poor"]
+    assert compare.main(argv) == 2
+    err = capsys.readouterr().err
+    assert "not comparable" in err and message in err
+    assert compare.main([*argv, "--force"]) == 0
+    assert f"FLAG {message}" in capsys.readouterr().out
+
+
+def test_compare_names_what_it_needs(results, tmp_path, capsys):
+    assert compare.main([str(results), str(results)]) == 2
+    assert "name one with --a" in capsys.readouterr().err
+    assert compare.main([str(results), str(results), "--a", "good", "--b", "psychic"]) == 2
+    assert "no recognizer 'psychic'" in capsys.readouterr().err
+    bad = tmp_path / "bad.json"
+    bad.write_text("{}")
+    assert compare.main([str(bad), str(results), "--b", "poor"]) == 2
+    assert "not a placeclust-results/1 results file" in capsys.readouterr().err
+
+
+def test_one_recognizer_under_two_agents_is_compared_by_agent(results, tmp_path, capsys):
+    other = copy.deepcopy(load_results(results))
+    other["settings"]["agent"] = "ppo"
+    path = tmp_path / "ppo.json"
+    path.write_text(json.dumps(other))
+    assert compare.main([str(results), str(path), "--a", "good", "--b", "good"]) == 0
+    out = capsys.readouterr().out
+    assert "A: good (planner)" in out and "B: good (ppo)" in out and "FLAG" not in out

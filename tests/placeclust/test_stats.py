@@ -1,0 +1,87 @@
+"""Intervals over buildings: what a user reads off a benchmark table must hold."""
+
+import math
+
+import numpy as np
+import pytest
+
+from placeclust.stats import (
+    Estimate,
+    buildings_for,
+    interval,
+    paired_difference,
+    probability_of_improvement,
+)
+
+
+def _buildings(rng, n, p_low, p_high, errands=5):
+    return [rng.binomial(1, p, errands) for p in rng.uniform(p_low, p_high, n)]
+
+
+def test_the_mean_weighs_every_errand_and_the_interval_holds_it():
+    groups = [[1, 1, 0], [1], [0, 0, 1, 1]]  # 5 of 8 errands
+    est = interval(groups)
+    assert est.mean == pytest.approx(5 / 8) and est.n_buildings == 3
+    assert est.low <= est.mean <= est.high
+
+
+def test_the_interval_shrinks_with_more_buildings_and_covers_the_truth():
+    rng = np.random.default_rng(0)
+    small = interval(_buildings(rng, 10, 0.5, 1.0))
+    large = interval(_buildings(rng, 160, 0.5, 1.0))
+    assert large.half_width < small.half_width / 2.5  # about 1/sqrt(16)
+    assert large.low < 0.75 < large.high
+
+
+def test_buildings_that_fail_together_widen_the_interval():
+    """The same 200 errands, spread evenly or clumped by building: the clumped sample has
+    the wider interval, which a bootstrap over errands would miss."""
+    even = [[1, 1, 1, 1, 0]] * 40
+    clumped = [[1] * 5] * 32 + [[0] * 5] * 8
+    assert interval(even).mean == interval(clumped).mean == 0.8
+    assert interval(clumped).half_width > 3 * interval(even).half_width
+
+
+def test_identical_buildings_give_a_point_and_one_building_no_interval():
+    assert interval([[1, 1]] * 6) == Estimate(1.0, 1.0, 1.0, 6)
+    lone = interval([[1, 0, 1]])
+    assert lone.mean == pytest.approx(2 / 3) and math.isnan(lone.low) and math.isnan(lone.high)
+
+
+def test_a_paired_difference_is_tighter_than_the_difference_of_two_intervals():
+    rng = np.random.default_rng(1)
+    p = rng.uniform(0.2, 1.0, 30)  # the building decides most of the outcome
+    a = [rng.binomial(1, min(q + 0.1, 1.0), 6) for q in p]
+    b = [rng.binomial(1, q, 6) for q in p]
+    diff = paired_difference(a, b)
+    assert diff.mean == pytest.approx(interval(a).mean - interval(b).mean)
+    assert diff.half_width < interval(a).half_width + interval(b).half_width
+    assert paired_difference(a, a) == Estimate(0.0, 0.0, 0.0, 30)
+
+
+def test_probability_of_improvement_is_a_half_for_equals_and_one_for_a_sweep():
+    a, b = [[1, 1, 1]] * 5, [[0, 0, 0]] * 5
+    assert probability_of_improvement(a, b).mean == 1.0
+    assert probability_of_improvement(b, a).mean == 0.0
+    assert probability_of_improvement(a, a).mean == 0.5
+
+
+def test_bad_samples_are_refused_with_the_reason():
+    with pytest.raises(ValueError, match="no buildings"):
+        interval([])
+    with pytest.raises(ValueError, match="building 1 has no values"):
+        interval([[1], []])
+    with pytest.raises(ValueError, match="not finite"):
+        interval([[1], [math.nan]])
+    with pytest.raises(ValueError, match="same buildings"):
+        paired_difference([[1], [1]], [[1]])
+    with pytest.raises(ValueError, match="at least 2 buildings"):
+        buildings_for([[1, 0]], 0.05)
+
+
+def test_the_buildings_needed_follow_the_pilots_spread():
+    rng = np.random.default_rng(2)
+    pilot = _buildings(rng, 20, 0.3, 1.0)
+    n = buildings_for(pilot, 0.05)
+    assert buildings_for(pilot, 0.10) == pytest.approx(n / 4, rel=0.1)
+    assert buildings_for([[1, 1]] * 5, 0.05) == 2  # no spread: the fewest that resample
