@@ -137,7 +137,8 @@ def _settings(args: argparse.Namespace, p: argparse.ArgumentParser, argv: list[s
 
 def main(argv: list[str] | None = None, prog: str = "placeclust leaderboard"
          ) -> int:
-    p = argparse.ArgumentParser(prog=prog, description=__doc__,
+    # no abbreviations: the options a suite fixes are told by their full names
+    p = argparse.ArgumentParser(prog=prog, description=__doc__, allow_abbrev=False,
                                 formatter_class=argparse.RawDescriptionHelpFormatter)
     p.add_argument("--suite", choices=sorted(SUITES), help="run a frozen suite: its buildings, "
                    "rooms, errands, tours and seed (envs.commands.suite)")

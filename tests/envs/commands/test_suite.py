@@ -35,6 +35,9 @@ def test_a_suite_fixes_its_buildings_and_errands(capsys):
     with pytest.raises(SystemExit):
         leaderboard.main(["--suite", "placenav-v1", "--goals-per-scene", "3"])
     assert "fixes --goals-per-scene" in capsys.readouterr().err
+    with pytest.raises(SystemExit):  # an abbreviation would slip past the check
+        leaderboard.main(["--suite", "placenav-v1", "--goals", "3"])
+    assert "unrecognized arguments: --goals" in capsys.readouterr().err
     with pytest.raises(SystemExit):
         leaderboard.main(["--size", "quick"])
     assert "--size goes with --suite" in capsys.readouterr().err
