@@ -12,8 +12,10 @@ How it is run:
   (``executor="ray"``, the optional ``ray`` extra). Both call the same :func:`run_tour_job`, so
   they give the same rows; only the timings differ.
 - Every finished run is written at once to ``OUT/runs/<key>.json`` (atomically), where ``key``
-  hashes its configuration. Started again with the same matrix, the benchmark skips finished
-  runs: an interrupted benchmark resumes where it stopped.
+  hashes its configuration, with a stamp (:func:`run_stamp`: the code, library versions and
+  rendering that made it). Started again with the same matrix, the benchmark skips finished
+  runs whose stamp is still this run's: an interrupted benchmark resumes where it stopped, and
+  a stale run is run again and counted, never reused silently.
 - A condition is a lighting (``day``, ``cloudy``, ``night``) or an appearance change
   (``moved``: furniture and posters; ``noisy``: camera noise and blur), see
   :data:`envs.world.conditions.CONDITIONS`. One written ``"day>night"`` is a cross-condition run:
@@ -30,26 +32,26 @@ from __future__ import annotations
 
 import functools
 import hashlib
+import inspect
 import json
 import os
+import sys
 from collections.abc import Iterator
-from dataclasses import asdict, dataclass, field, replace
+from dataclasses import asdict, dataclass, replace
 from pathlib import Path
 from typing import Any
 
 import numpy as np
 
 from placeclust import __version__, protocol
-from placeclust.atomic import write_atomic
 from placeclust.features import FEATURES
 from placeclust.runner import ALGORITHMS, check_params, recognizer_class
 
 from ..world.conditions import CONDITIONS
 from .bench_report import write_report
 from .pool import run_all
-from .suite import library_versions
-
-ARRAYS = ("assignments", "truth")  # per-frame arrays of a run, stored beside its JSON
+from .store import LATENCY_ALGO, RunStore
+from .suite import code_fingerprint, library_versions, render_fingerprint
 
 
 @dataclass(frozen=True)
@@ -172,47 +174,19 @@ SIZES: dict[str, Matrix] = {
 }
 
 
-# -- the store of finished runs ---------------------------------------------------------------
+# -- the stamp of finished runs ---------------------------------------------------------------
 
-@dataclass
-class RunStore:
-    """Finished runs as ``folder/<key>.json``, written atomically (temp file, then rename)."""
-
-    folder: Path
-    _cache: dict[str, dict] = field(default_factory=dict)
-
-    def __post_init__(self) -> None:
-        self.folder = Path(self.folder)
-        self.folder.mkdir(parents=True, exist_ok=True)
-
-    def get(self, key: str) -> dict | None:
-        """The finished row of run ``key``, or None (also for a damaged file: it is redone)."""
-        if key not in self._cache:
-            path = self.folder / f"{key}.json"
-            try:
-                self._cache[key] = json.loads(path.read_text())
-            except (OSError, ValueError):
-                return None
-        return self._cache[key]
-
-    def put(self, row: dict) -> None:
-        """Record one finished run; its arrays (``assignments``, ``truth``) go to ``<key>.npz``.
-
-        The JSON is written last: its presence marks the run as done.
-        """
-        row = dict(row)
-        # Any: numpy's stub would match the splat against savez's allow_pickle flag too
-        arrays: dict[str, Any] = {k: np.asarray(row.pop(k)) for k in ARRAYS if k in row}
-        if arrays:
-            write_atomic(self.folder / f"{row['key']}.npz", lambda f: np.savez(f, **arrays))
-        text = json.dumps(row, indent=1, sort_keys=True).encode()
-        write_atomic(self.folder / f"{row['key']}.json", lambda f: f.write(text))
-        self._cache[row["key"]] = row
-
-    def arrays(self, key: str) -> dict[str, np.ndarray]:
-        """``assignments`` (place per frame, -1 unknown) and ``truth`` (room per frame) of a run."""
-        with np.load(self.folder / f"{key}.npz") as z:
-            return {k: z[k] for k in z.files}
+@functools.cache
+def run_stamp(algo: str) -> dict[str, Any]:
+    """What a kept run of ``algo`` must match to be used again: the library and simulator's
+    code (:func:`~envs.commands.suite.code_fingerprint`), this module, the source of a
+    ``package.module:Class`` recognizer, the library versions and the render fingerprint."""
+    digest = hashlib.sha256(code_fingerprint().encode())
+    digest.update(Path(__file__).read_bytes())
+    if ":" in algo:
+        digest.update(Path(inspect.getfile(recognizer_class(algo))).read_bytes())
+    return {"code": digest.hexdigest()[:16], "versions": library_versions(),
+            "render_fingerprint": render_fingerprint()}
 
 
 # -- jobs ---------------------------------------------------------------------------------------
@@ -233,13 +207,13 @@ def plan_jobs(matrix: Matrix, store: RunStore) -> tuple[list[Job], int]:
     todo: dict[tuple, list[RunSpec]] = {}
     done = 0
     for spec in matrix.runs():
-        if store.get(spec.key) is not None:
+        if store.get(spec.key, spec.algo) is not None:
             done += 1
         else:
             todo.setdefault(spec.tour, []).append(spec)
     jobs = [Job("tour", tuple(specs)) for specs in todo.values()]
     for feat in matrix.latency_sweeps:
-        if store.get(latency_key(feat, matrix.latency_sizes)) is None:
+        if store.get(latency_key(feat, matrix.latency_sizes), LATENCY_ALGO) is None:
             jobs.append(Job("latency", features=feat, sizes=tuple(matrix.latency_sizes)))
         else:
             done += 1
@@ -259,7 +233,7 @@ def run_job(job: Job, store_dir: str | None = None) -> list[dict]:
     loses at most the run in progress; Ray tasks on other machines pass None and the driver
     records their rows.
     """
-    store = RunStore(Path(store_dir)) if store_dir else None
+    store = RunStore(Path(store_dir), run_stamp) if store_dir else None
     rows = []
     for row in (_latency_rows(job) if job.kind == "latency" else _tour_rows(job.specs)):
         if store is not None:
@@ -396,12 +370,15 @@ def run_bench(matrix: Matrix, out: str | os.PathLike, workers: int = 0, executor
     """
 
     folder = Path(out)
-    store = RunStore(folder / "runs")
+    store = RunStore(folder / "runs", run_stamp)
     (folder / "config.json").write_text(json.dumps(
         {"matrix": asdict(matrix), "versions": library_versions()}, indent=1))
     jobs, done = plan_jobs(matrix, store)
     if progress:
         print(f"{done} runs already done in {folder}; {len(jobs)} jobs to go")
+    if store.stale:
+        print(f"{len(store.stale)} kept runs in {store.folder} are stale (code, libraries or "
+              "rendering changed since) and run again", file=sys.stderr)
     for _ in execute(jobs, store, workers, executor, ray_address, progress):
         pass
     rows = [store.get(spec.key) for spec in matrix.runs()]

@@ -25,9 +25,7 @@ Examples:
 from __future__ import annotations
 
 import argparse
-import functools
 import hashlib
-import importlib
 import inspect
 import json
 import sys
@@ -51,7 +49,7 @@ from ..world.splits import add_scope_arguments, scope_seeds
 from ..world.textures import ASSETS
 from .pool import run_all
 from .results import interval_text, summarize, write_results
-from .suite import library_versions, provenance, render_fingerprint
+from .suite import code_fingerprint, library_versions, provenance, render_fingerprint
 
 #: agents that run errands on a guided tour's map; ``planner`` is the best
 ERRAND_AGENTS = ("planner", "ppo", "random")
@@ -131,12 +129,6 @@ def _load_policy(policy: Path):
 
 #: the slow recognizers first, so the last job to finish is a short one
 COST = {"panorama": 0, "nested": 1, "panorama-orb": 2, "random": 3, "none": 4, "oracle": 5}
-#: the code a closed-loop job runs, besides a user's recognizer and a policy file: the library,
-#: and the world, the tasks and the agents of this package (``envs``, or ``placeclust_envs``
-#: in a wheel), with this module (not the commands that only report)
-JOB_SOURCES = ("placeclust", "..world", "..tasks", "..agents")
-
-
 def check_closed_loop_recognizer(name: str, params: dict[str, Any] | None = None) -> None:
     """Check a recognizer before any building is toured, so a bad one costs no minutes.
 
@@ -155,28 +147,15 @@ def check_closed_loop_recognizer(name: str, params: dict[str, Any] | None = None
             raise ValueError(f"{name} is not a recognizer placeclust can run: {exc}") from exc
 
 
-@functools.cache
-def _code_digest() -> bytes:
-    """The source of :data:`JOB_SOURCES` and of this module, every file in a fixed order."""
-    digest = hashlib.sha256()
-    files = [Path(inspect.getfile(sys.modules[__name__]))]
-    for package in JOB_SOURCES:
-        module = importlib.import_module(package, __package__)
-        root = Path(inspect.getfile(module)).parent
-        files += sorted(root.glob("*.py"))
-    for path in files:
-        digest.update(path.name.encode())
-        digest.update(path.read_bytes())
-    return digest.digest()
-
-
 def job_fingerprint(job: dict[str, Any]) -> str:
     """A hash of all the code that makes a job's result: the library, the world, the tasks
-    and the agents (:data:`JOB_SOURCES`), for a ``package.module:Class`` recognizer its
-    module's source, and for ``ppo`` the policy file. A kept row is reused only under the same
-    fingerprint, library versions and render fingerprint (:func:`run_jobs`): an edit anywhere
-    a result could come from, within one version of placeclust, runs the job again."""
-    digest = hashlib.sha256(_code_digest())
+    and the agents (:func:`~envs.commands.suite.code_fingerprint`), this module, for a
+    ``package.module:Class`` recognizer its module's source, and for ``ppo`` the policy
+    file. A kept row is reused only under the same fingerprint, library versions and render
+    fingerprint (:func:`run_jobs`): an edit anywhere a result could come from, within one
+    version of placeclust, runs the job again."""
+    digest = hashlib.sha256(code_fingerprint().encode())
+    digest.update(Path(__file__).read_bytes())
     if ":" in job.get("recognizer", ""):
         digest.update(Path(inspect.getfile(recognizer_class(job["recognizer"]))).read_bytes())
     if job["agent"] == "ppo":

@@ -110,6 +110,22 @@ def test_resume_does_not_redo_finished_runs(tiny_bench, monkeypatch) -> None:
     assert again == rows
 
 
+def test_a_stale_run_is_run_again_and_said(tiny_bench, tmp_path, monkeypatch, capsys) -> None:
+    import shutil
+
+    out, rows = tiny_bench
+    copy = tmp_path / "bench"
+    shutil.copytree(out, copy)
+    monkeypatch.setattr(bench, "run_stamp", lambda algo: {"code": "the recognizer edited"})
+    jobs, done = bench.plan_jobs(TINY, RunStore(copy / "runs", bench.run_stamp))
+    assert done == 0 and sum(len(j.specs) or 1 for j in jobs) == 4  # 3 runs, 1 sweep
+    redone = run_bench(TINY, copy, workers=1, progress=True)
+    assert "4 kept runs" in capsys.readouterr().err
+    assert all(r.pop("stamp") == {"code": "the recognizer edited"} for r in redone)
+    assert _stable(redone) == _stable([{k: v for k, v in r.items() if k != "stamp"}
+                                       for r in rows])
+
+
 def test_damaged_run_file_is_redone(tiny_bench, tmp_path) -> None:
     out, rows = tiny_bench
     import shutil

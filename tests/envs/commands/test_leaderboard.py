@@ -59,7 +59,7 @@ def test_the_job_fingerprint_follows_the_code_and_the_policy_file(tmp_path, monk
     assert job_fingerprint(job) != first
     assert job_fingerprint({"agent": "planner"}) == job_fingerprint({"agent": "planner"})
     planner = job_fingerprint({"agent": "planner"})
-    monkeypatch.setattr(closed_loop, "_code_digest", lambda: b"the recognizer edited")
+    monkeypatch.setattr(closed_loop, "code_fingerprint", lambda: "the recognizer edited")
     assert job_fingerprint({"agent": "planner"}) != planner
 
 
