@@ -51,7 +51,7 @@ from ..world.conditions import CONDITIONS
 from .bench_report import write_report
 from .pool import run_all
 from .store import LATENCY_ALGO, RunStore
-from .suite import code_fingerprint, library_versions, render_fingerprint
+from .suite import library_versions, render_fingerprint, sources_fingerprint
 
 
 @dataclass(frozen=True)
@@ -181,11 +181,10 @@ def run_stamp(algo: str) -> dict[str, Any]:
     """What a kept run of ``algo`` must match to be used again: the library and simulator's
     code (:func:`~envs.commands.suite.code_fingerprint`), this module, the source of a
     ``package.module:Class`` recognizer, the library versions and the render fingerprint."""
-    digest = hashlib.sha256(code_fingerprint().encode())
-    digest.update(Path(__file__).read_bytes())
+    sources = [Path(__file__)]
     if ":" in algo:
-        digest.update(Path(inspect.getfile(recognizer_class(algo))).read_bytes())
-    return {"code": digest.hexdigest()[:16], "versions": library_versions(),
+        sources.append(Path(inspect.getfile(recognizer_class(algo))))
+    return {"code": sources_fingerprint(*sources), "versions": library_versions(),
             "render_fingerprint": render_fingerprint()}
 
 

@@ -49,7 +49,7 @@ from ..world.splits import add_scope_arguments, scope_seeds
 from ..world.textures import ASSETS
 from .pool import run_all
 from .results import interval_text, summarize, write_results
-from .suite import code_fingerprint, library_versions, provenance, render_fingerprint
+from .suite import library_versions, provenance, render_fingerprint, sources_fingerprint
 
 #: agents that run errands on a guided tour's map; ``planner`` is the best
 ERRAND_AGENTS = ("planner", "ppo", "random")
@@ -154,15 +154,14 @@ def job_fingerprint(job: dict[str, Any]) -> str:
     file. A kept row is reused only under the same fingerprint, library versions and render
     fingerprint (:func:`run_jobs`): an edit anywhere a result could come from, within one
     version of placeclust, runs the job again."""
-    digest = hashlib.sha256(code_fingerprint().encode())
-    digest.update(Path(__file__).read_bytes())
+    sources = [Path(__file__)]
     if ":" in job.get("recognizer", ""):
-        digest.update(Path(inspect.getfile(recognizer_class(job["recognizer"]))).read_bytes())
+        sources.append(Path(inspect.getfile(recognizer_class(job["recognizer"]))))
     if job["agent"] == "ppo":
         policy = Path(job.get("policy") or POLICY)
         if policy.is_file():  # a missing one is reported by the job itself
-            digest.update(policy.read_bytes())
-    return digest.hexdigest()[:16]
+            sources.append(policy)
+    return sources_fingerprint(*sources)
 
 
 #: the fields a job's file name spells out; any other is hashed into it
@@ -250,6 +249,26 @@ def _run_job(job: dict[str, Any]) -> dict[str, Any]:
     return run_scene(**job)
 
 
+#: the guided tour's length per room when a command is not told otherwise (the env's default)
+TOUR_STEPS_PER_ROOM = 150
+
+
+def tour_task(steps_per_room: int) -> dict[str, Any]:
+    """The ``PlaceNav-GuidedTour-v1`` arguments a job adds for a tour length: none for the
+    default (:data:`TOUR_STEPS_PER_ROOM`), so default jobs keep their plain file names."""
+    return {} if steps_per_room == TOUR_STEPS_PER_ROOM else {"tour_steps_per_room": steps_per_room}
+
+
+def run_settings(args: argparse.Namespace, seeds: list[int], task: dict[str, Any]
+                 ) -> dict[str, Any]:
+    """What a results file's ``settings`` say a run measured (``placeclust compare`` pairs
+    only runs whose settings agree), from a command's ``split``, ``rooms``,
+    ``goals_per_scene``, ``seed`` and ``agent``."""
+    return {"split": args.split, "scene_seeds": seeds, "rooms": args.rooms,
+            "goals": args.goals_per_scene, "seed": args.seed, "agent": args.agent,
+            "task": task}
+
+
 def add_recognizer_arguments(p: argparse.ArgumentParser, many: bool) -> None:
     """``--recognizer`` (``--recognizers`` if ``many``), ``--preset`` and ``--param``."""
     names = ", ".join(RECOGNIZERS)
@@ -300,7 +319,7 @@ def main(argv: list[str] | None = None, prog: str = "placeclust errands") -> int
     p.add_argument("--agent", choices=ERRAND_AGENTS, default="planner")
     p.add_argument("--policy", type=Path, help="the ppo agent's policy (default: shipped)")
     p.add_argument("--goals-per-scene", type=int, default=5)
-    p.add_argument("--tour-steps-per-room", type=int, default=150,
+    p.add_argument("--tour-steps-per-room", type=int, default=TOUR_STEPS_PER_ROOM,
                    help="the guided tour's length per room (PlaceNav-GuidedTour-v1's)")
     p.add_argument("--seed", type=int, default=0)
     p.add_argument("--json", type=Path, help="also write the scores here")
@@ -313,17 +332,14 @@ def main(argv: list[str] | None = None, prog: str = "placeclust errands") -> int
                 f"{args.goals_per_scene} and {args.tour_steps_per_room}")
     try:
         params = recognizer_params([args.recognizer], args.preset, args.param)
-        task = ({} if args.tour_steps_per_room == 150
-                else {"tour_steps_per_room": args.tour_steps_per_room})
+        task = tour_task(args.tour_steps_per_room)
         jobs = make_jobs(seeds, [args.recognizer], args.rooms, args.agent,
                          args.goals_per_scene, args.seed, args.policy, params, **task)
         rows = run_jobs(jobs, args.out, args.workers)
     except (ValueError, FileNotFoundError) as e:
         print(f"error: {e}", file=sys.stderr)
         return 2
-    settings = {"split": args.split, "scene_seeds": seeds, "rooms": args.rooms,
-                "goals": args.goals_per_scene, "seed": args.seed, "agent": args.agent,
-                "task": task}
+    settings = run_settings(args, seeds, task)
     if args.json:
         doc = write_results(args.json, rows, [args.recognizer], settings, provenance(None))
         (summary,) = doc["summaries"]

@@ -38,10 +38,13 @@ from placeclust.docs_section import write_section
 from ..world.splits import add_scope_arguments, scope_seeds
 from .closed_loop import (
     ERRAND_AGENTS,
+    TOUR_STEPS_PER_ROOM,
     add_recognizer_arguments,
     make_jobs,
     recognizer_params,
     run_jobs,
+    run_settings,
+    tour_task,
 )
 from .results import TARGET_HALF_WIDTH, interval_text, write_results
 from .suite import SIZES, SUITES, get_suite, provenance
@@ -115,7 +118,7 @@ def _settings(args: argparse.Namespace, p: argparse.ArgumentParser, argv: list[s
         if args.size != "full":
             p.error("--size goes with --suite")
         seeds = scope_seeds(args, p)
-        task = {}
+        task = tour_task(args.tour_steps_per_room)
     else:
         fixed = [o for o in ("--split", "--scene-seeds", "--n-scenes", "--rooms",
                              "--goals-per-scene", "--seed", "--tour-steps-per-room")
@@ -127,12 +130,7 @@ def _settings(args: argparse.Namespace, p: argparse.ArgumentParser, argv: list[s
         seeds, task = suite.scene_seeds(args.size), suite.task(args.size)
         args.split, args.rooms = suite.split, suite.n_rooms
         args.goals_per_scene, args.seed = suite.goals, suite.seed
-    if args.suite is None and args.tour_steps_per_room != 150:
-        task = {"tour_steps_per_room": args.tour_steps_per_room}
-    settings = {"split": args.split, "scene_seeds": seeds, "rooms": args.rooms,
-                "goals": args.goals_per_scene, "seed": args.seed, "agent": args.agent,
-                "task": task}
-    return seeds, settings
+    return seeds, run_settings(args, seeds, task)
 
 
 def main(argv: list[str] | None = None, prog: str = "placeclust leaderboard"
@@ -150,7 +148,7 @@ def main(argv: list[str] | None = None, prog: str = "placeclust leaderboard"
     p.add_argument("--agent", choices=ERRAND_AGENTS, default="planner")
     p.add_argument("--policy", type=Path, help="the ppo agent's policy (default: shipped)")
     p.add_argument("--goals-per-scene", type=int, default=5)
-    p.add_argument("--tour-steps-per-room", type=int, default=150)
+    p.add_argument("--tour-steps-per-room", type=int, default=TOUR_STEPS_PER_ROOM)
     p.add_argument("--seed", type=int, default=0)
     p.add_argument("--out", type=Path, default=Path("runs/leaderboard"))
     p.add_argument("--workers", type=int, default=2)

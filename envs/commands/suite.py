@@ -154,6 +154,15 @@ def code_fingerprint() -> str:
     return digest.hexdigest()[:16]
 
 
+def sources_fingerprint(*sources: str | Path) -> str:
+    """:func:`code_fingerprint` extended by the source files a result also depends on (the
+    command's own module, a user's recognizer module, a policy file), in the order given."""
+    digest = hashlib.sha256(code_fingerprint().encode())
+    for source in sources:
+        digest.update(Path(source).read_bytes())
+    return digest.hexdigest()[:16]
+
+
 def provenance(suite: Suite | None, size: str = "full") -> dict[str, Any]:
     """What a results file records so another can be told comparable or not: the suite (its
     definition too) and size, or none, the library versions and the render fingerprint."""

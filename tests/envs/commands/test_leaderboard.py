@@ -7,7 +7,7 @@ import math
 import pytest
 
 import envs  # noqa: F401
-from envs.commands import closed_loop
+from envs.commands import closed_loop, suite
 from envs.commands.closed_loop import job_fingerprint, run_jobs
 from envs.commands.leaderboard import leaderboard, rank_agreement
 from envs.commands.results import summarize
@@ -59,7 +59,7 @@ def test_the_job_fingerprint_follows_the_code_and_the_policy_file(tmp_path, monk
     assert job_fingerprint(job) != first
     assert job_fingerprint({"agent": "planner"}) == job_fingerprint({"agent": "planner"})
     planner = job_fingerprint({"agent": "planner"})
-    monkeypatch.setattr(closed_loop, "code_fingerprint", lambda: "the recognizer edited")
+    monkeypatch.setattr(suite, "code_fingerprint", lambda: "the recognizer edited")
     assert job_fingerprint({"agent": "planner"}) != planner
 
 
