@@ -50,7 +50,7 @@ from placeclust.runner import ALGORITHMS, check_params, recognizer_class
 from ..world.conditions import CONDITIONS
 from .bench_report import write_report
 from .pool import run_all
-from .store import LATENCY_ALGO, RunStore
+from .store import RunStore
 from .suite import library_versions, render_fingerprint, sources_fingerprint
 
 
@@ -188,6 +188,15 @@ def run_stamp(algo: str) -> dict[str, Any]:
             "render_fingerprint": render_fingerprint()}
 
 
+LATENCY_ALGO = "online"  # the recognizer the latency sweeps time
+
+
+def row_stamp(row: dict[str, Any]) -> dict[str, Any]:
+    """The stamp a bench row gets and must keep (:class:`~envs.commands.store.RunStore`):
+    :func:`run_stamp` of its recognizer (a latency sweep's: :data:`LATENCY_ALGO`)."""
+    return run_stamp(row.get("algo", LATENCY_ALGO))
+
+
 # -- jobs ---------------------------------------------------------------------------------------
 
 @dataclass(frozen=True)
@@ -206,13 +215,13 @@ def plan_jobs(matrix: Matrix, store: RunStore) -> tuple[list[Job], int]:
     todo: dict[tuple, list[RunSpec]] = {}
     done = 0
     for spec in matrix.runs():
-        if store.get(spec.key, spec.algo) is not None:
+        if store.get(spec.key) is not None:
             done += 1
         else:
             todo.setdefault(spec.tour, []).append(spec)
     jobs = [Job("tour", tuple(specs)) for specs in todo.values()]
     for feat in matrix.latency_sweeps:
-        if store.get(latency_key(feat, matrix.latency_sizes), LATENCY_ALGO) is None:
+        if store.get(latency_key(feat, matrix.latency_sizes)) is None:
             jobs.append(Job("latency", features=feat, sizes=tuple(matrix.latency_sizes)))
         else:
             done += 1
@@ -232,7 +241,7 @@ def run_job(job: Job, store_dir: str | None = None) -> list[dict]:
     loses at most the run in progress; Ray tasks on other machines pass None and the driver
     records their rows.
     """
-    store = RunStore(Path(store_dir), run_stamp) if store_dir else None
+    store = RunStore(Path(store_dir), row_stamp) if store_dir else None
     rows = []
     for row in (_latency_rows(job) if job.kind == "latency" else _tour_rows(job.specs)):
         if store is not None:
@@ -369,7 +378,7 @@ def run_bench(matrix: Matrix, out: str | os.PathLike, workers: int = 0, executor
     """
 
     folder = Path(out)
-    store = RunStore(folder / "runs", run_stamp)
+    store = RunStore(folder / "runs", row_stamp)
     (folder / "config.json").write_text(json.dumps(
         {"matrix": asdict(matrix), "versions": library_versions()}, indent=1))
     jobs, done = plan_jobs(matrix, store)

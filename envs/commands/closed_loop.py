@@ -30,13 +30,13 @@ import inspect
 import json
 import sys
 import time
+from collections.abc import Callable
 from pathlib import Path
 from typing import Any
 
 import gymnasium as gym
 import numpy as np
 
-from placeclust.atomic import write_atomic
 from placeclust.checks import check_recognizer
 from placeclust.presets import PRESETS
 from placeclust.progress import progress as progress_bar
@@ -49,6 +49,7 @@ from ..world.splits import add_scope_arguments, scope_seeds
 from ..world.textures import ASSETS
 from .pool import run_all
 from .results import interval_text, summarize, write_results
+from .store import RunStore
 from .suite import library_versions, provenance, render_fingerprint, sources_fingerprint
 
 #: agents that run errands on a guided tour's map; ``planner`` is the best
@@ -199,50 +200,50 @@ def run_jobs(jobs: list[dict[str, Any]], out: Path | None = None, workers: int =
              executor: str = "process", progress: bool = True) -> list[dict[str, Any]]:
     """Run :func:`run_scene` for each job (its keyword arguments); the rows.
 
-    With ``out``, each row is kept in ``out/runs/<key>.json`` with its :func:`stamp`; a row
+    With ``out``, each row is kept in ``out/runs/<key>.json`` (a
+    :class:`~envs.commands.store.RunStore`, the bench's) with its :func:`stamp`; a row
     already there is used again only if its stamp is this run's (the same code, library
     versions and rendering). Stale rows are run again, and counted on standard error.
     """
-    store = None if out is None else Path(out) / "runs"
-    stamps = {job_key(job): stamp(job) for job in jobs}
-    done, stale = {}, 0
+    store = None if out is None else RunStore(Path(out) / "runs", _memo(stamp))
+    done: dict[str, dict[str, Any]] = {}
     if store is not None:
-        store.mkdir(parents=True, exist_ok=True)
-        for job in jobs:
-            path = store / f"{job_key(job)}.json"
-            if path.is_file():
-                row = json.loads(path.read_text())
-                if row.get("stamp") == stamps[job_key(job)]:
-                    done[job_key(job)] = row
-                else:
-                    stale += 1
-    if stale:
-        print(f"{stale} kept results in {store} are stale (code, libraries or rendering "
-              "changed since) and run again", file=sys.stderr)
+        kept = {job_key(job): store.get(job_key(job)) for job in jobs}
+        done = {key: row for key, row in kept.items() if row is not None}
+    if store is not None and store.stale:
+        print(f"{len(store.stale)} kept results in {store.folder} are stale (code, libraries "
+              "or rendering changed since) and run again", file=sys.stderr)
     todo = sorted((j for j in jobs if job_key(j) not in done),
                   key=lambda j: COST.get(j["recognizer"], 0))
     bar = progress_bar(total=len(todo), enabled=progress, desc="errands", unit="building")
     for job, row in run_all(_run_job, todo, workers, executor):
-        row["stamp"] = stamps[job_key(job)]
-        done[job_key(job)] = row
-        if store is not None:
-            _keep(store / f"{job_key(job)}.json", row)
+        row = {**row, "key": job_key(job), "policy": job.get("policy")}
+        done[job_key(job)] = store.put(row) if store is not None else row
         bar.update()
     bar.close()
     return [done[job_key(j)] for j in jobs]
 
 
-def stamp(job: dict[str, Any]) -> dict[str, Any]:
-    """What a kept row must match to be used again: the job's code
-    (:func:`job_fingerprint`), the library versions and the render fingerprint."""
-    return {"code": job_fingerprint(job), "versions": library_versions(),
+def stamp(row: dict[str, Any]) -> dict[str, Any]:
+    """What a kept row (or a job) must match to be used again: its code
+    (:func:`job_fingerprint` of its recognizer, agent and policy), the library versions and
+    the render fingerprint."""
+    return {"code": job_fingerprint(row), "versions": library_versions(),
             "render_fingerprint": render_fingerprint()}
 
 
-def _keep(path: Path, row: dict[str, Any]) -> None:
-    """Write a finished row to ``path`` at once: an interrupted run leaves no half file."""
-    text = json.dumps(row, indent=1).encode()
-    write_atomic(path, lambda f: f.write(text))
+def _memo(fn: Callable[[dict[str, Any]], dict[str, Any]]
+          ) -> Callable[[dict[str, Any]], dict[str, Any]]:
+    """``fn(row)`` computed once per recognizer, agent and policy within one command: hashing
+    the sources for each of hundreds of rows would cost seconds."""
+    seen: dict[tuple, dict[str, Any]] = {}
+
+    def once(row: dict[str, Any]) -> dict[str, Any]:
+        what = (row["recognizer"], row["agent"], row.get("policy"))
+        if what not in seen:
+            seen[what] = fn(row)
+        return seen[what]
+    return once
 
 
 def _run_job(job: dict[str, Any]) -> dict[str, Any]:

@@ -1,18 +1,22 @@
-"""The benchmark's store of finished runs: a JSON file (and the per-frame arrays) per run.
+"""The benchmarks' store of finished runs: a JSON file (and the per-frame arrays) per run.
 
-A run's file is written atomically and last, so its presence marks the run as done; each row
-carries a stamp of the code, libraries and rendering that made it, and a row whose stamp is
-not the current one is not reused (:func:`envs.commands.bench.run_stamp`).
+One store serves the open-loop bench (:mod:`envs.commands.bench`) and the closed-loop
+errands and leaderboard (:mod:`envs.commands.closed_loop`). A run's file is written atomically
+and last, so its presence marks the run as done; each row carries the stamp of the code,
+libraries and rendering that made it, ``stamp(row)``, and a kept row whose stamp is not the
+one its run would get now is stale: :meth:`RunStore.get` does not return it, and counts it.
 
 Examples:
     >>> import tempfile
     >>> from envs.commands.store import RunStore
-    >>> store = RunStore(tempfile.mkdtemp(), stamp=lambda algo: {"code": "v1"})
-    >>> store.put({"key": "k", "algo": "online", "precision": 1.0})
-    >>> store.get("k", "online")["precision"]
+    >>> store = RunStore(tempfile.mkdtemp(), stamp=lambda row: {"code": "v1"})
+    >>> store.put({"key": "k", "algo": "online", "precision": 1.0})["stamp"]
+    {'code': 'v1'}
+    >>> store.get("k")["precision"]
     1.0
-    >>> RunStore(store.folder, stamp=lambda algo: {"code": "v2"}).get("k", "online") is None
-    True
+    >>> edited = RunStore(store.folder, stamp=lambda row: {"code": "v2"})
+    >>> edited.get("k") is None, edited.stale
+    (True, {'k'})
 """
 
 from __future__ import annotations
@@ -28,16 +32,21 @@ import numpy as np
 from placeclust.atomic import write_atomic
 
 ARRAYS = ("assignments", "truth")  # per-frame arrays of a run, stored beside its JSON
-LATENCY_ALGO = "online"  # the recognizer the latency sweeps time
 
 
 @dataclass
 class RunStore:
-    """Finished runs as ``folder/<key>.json``, written atomically (temp file, then rename),
-    each with its ``stamp(algo)`` (:func:`envs.commands.bench.run_stamp`; none if not given)."""
+    """Finished runs as ``folder/<key>.json``, written atomically (temp file, then rename).
+
+    Args:
+        folder: where the runs are kept (made if missing).
+        stamp: what a row must carry to be used again, computed from the row itself (its
+            recognizer, agent...): :func:`envs.commands.bench.row_stamp`,
+            :func:`envs.commands.closed_loop.stamp`. None: rows are neither stamped nor checked.
+    """
 
     folder: Path
-    stamp: Callable[[str], dict[str, Any]] | None = None
+    stamp: Callable[[dict[str, Any]], dict[str, Any]] | None = None
     _cache: dict[str, dict] = field(default_factory=dict)
     #: keys of kept runs found stale by :meth:`get`
     stale: set[str] = field(default_factory=set)
@@ -46,9 +55,9 @@ class RunStore:
         self.folder = Path(self.folder)
         self.folder.mkdir(parents=True, exist_ok=True)
 
-    def get(self, key: str, algo: str | None = None) -> dict | None:
-        """The finished row of run ``key``, or None (also for a damaged file: it is redone).
-        With ``algo``, a row whose stamp is not ``stamp(algo)`` now is stale: None."""
+    def get(self, key: str) -> dict | None:
+        """The finished row of run ``key``, or None: not run, damaged (a torn write) or stale
+        (its stamp is not ``stamp(row)`` now; the key goes into :attr:`stale`)."""
         if key not in self._cache:
             path = self.folder / f"{key}.json"
             try:
@@ -56,21 +65,21 @@ class RunStore:
             except (OSError, ValueError):
                 return None
         row = self._cache[key]
-        if algo is not None and self.stamp and row.get("stamp") != self.stamp(algo):
+        if self.stamp is not None and row.get("stamp") != self.stamp(row):
             self.stale.add(key)
             del self._cache[key]  # the run that replaces it is read from its file
             return None
         return row
 
-    def put(self, row: dict) -> None:
-        """Record one finished run; its arrays (``assignments``, ``truth``) go to ``<key>.npz``.
+    def put(self, row: dict) -> dict:
+        """Record one finished run (``row["key"]`` names it) with its stamp; its arrays
+        (``assignments``, ``truth``) go to ``<key>.npz``. Returns the row as kept.
 
         The JSON is written last: its presence marks the run as done.
         """
+        row = dict(row)
         if self.stamp is not None:
-            row = {**row, "stamp": self.stamp(row.get("algo", LATENCY_ALGO))}
-        else:
-            row = dict(row)
+            row["stamp"] = self.stamp(row)
         # Any: numpy's stub would match the splat against savez's allow_pickle flag too
         arrays: dict[str, Any] = {k: np.asarray(row.pop(k)) for k in ARRAYS if k in row}
         if arrays:
@@ -78,6 +87,7 @@ class RunStore:
         text = json.dumps(row, indent=1, sort_keys=True).encode()
         write_atomic(self.folder / f"{row['key']}.json", lambda f: f.write(text))
         self._cache[row["key"]] = row
+        return row
 
     def arrays(self, key: str) -> dict[str, np.ndarray]:
         """``assignments`` (place per frame, -1 unknown) and ``truth`` (room per frame) of a run."""

@@ -117,7 +117,7 @@ def test_a_stale_run_is_run_again_and_said(tiny_bench, tmp_path, monkeypatch, ca
     copy = tmp_path / "bench"
     shutil.copytree(out, copy)
     monkeypatch.setattr(bench, "run_stamp", lambda algo: {"code": "the recognizer edited"})
-    jobs, done = bench.plan_jobs(TINY, RunStore(copy / "runs", bench.run_stamp))
+    jobs, done = bench.plan_jobs(TINY, RunStore(copy / "runs", bench.row_stamp))
     assert done == 0 and sum(len(j.specs) or 1 for j in jobs) == 4  # 3 runs, 1 sweep
     redone = run_bench(TINY, copy, workers=1, progress=True)
     assert "4 kept runs" in capsys.readouterr().err
