@@ -25,7 +25,7 @@ test: $(VENV)/.installed
 	$(PY) -m pytest -q
 
 # Regenerates every table of docs/benchmarks.md, one command after the other (never two timings
-# at once): about 80 minutes on a 2-core machine.
+# at once): about 3.5 hours on a 2-core machine, the full closed-loop suite 106 minutes of it.
 DOCS := --docs docs/benchmarks.md
 PANORAMA_TOURS := --algos online --features sift --conditions day --scenes 0 1 2 3 --rooms 4 8 \
 	--tour-seeds 0 1 --steps-per-room 150 --latency-sizes
@@ -74,6 +74,9 @@ benchmarks: $(VENV)/.installed
 		--a panorama --b panorama-orb $(DOCS)
 	$(VENV)/bin/placeclust leaderboard --suite placenav-v1 --size quick \
 		--recognizers oracle panorama panorama-orb --agent ppo --out runs/quick-ppo $(DOCS)
+	$(VENV)/bin/placeclust leaderboard --suite placenav-v1 --out runs/leaderboard $(DOCS)
+	$(VENV)/bin/placeclust compare runs/leaderboard/results.json runs/leaderboard/results.json \
+		--a panorama --b panorama-orb $(DOCS) --section compare-placenav-v1
 
 # the benchmark matrix (envs/commands/bench.py): results.csv, results.md, precision.png, latency.png
 bench-quick: $(VENV)/.installed

@@ -1,7 +1,7 @@
 """``placeclust compare``: two recognizers, paired on the same buildings, with intervals.
 
     placeclust compare runs/a/results.json runs/b/results.json [--a NAME] [--b NAME] [--force] \\
-        [--docs docs/benchmarks.md]
+        [--docs docs/benchmarks.md [--section NAME]]
 
 Each file is a results file (:mod:`envs.commands.results`: ``placeclust leaderboard`` writes
 ``OUT/results.json``, ``placeclust errands --json FILE``); both may be one file with ``--a`` and
@@ -13,9 +13,11 @@ holds 0 is not a difference the sample can decide, and the verdict line says so.
 Results are comparable only from the same buildings, errands and tours, rendered alike: files
 from different suites, settings or buildings, or with different render fingerprints, are
 refused (exit 2) with what differs; ``--force`` compares them anyway on the buildings they
-share and prints every difference as a ``FLAG`` line above the table. Different package
-versions or agents are noted, not refused: comparing two versions, or two agents on one
-recognizer's maps, is what a change is judged by.
+share and prints every difference as a ``FLAG`` line above the table (and in the docs
+section). Different package versions or agents are noted, not refused: comparing two versions,
+or two agents on one recognizer's maps, is what a change is judged by. Where the files differ in
+agent or suite size, each side's name says which, e.g. ``panorama (long)`` against
+``panorama (quick)``: the same maps after a long and a short tour, compared with ``--force``.
 """
 
 from __future__ import annotations
@@ -131,6 +133,8 @@ def main(argv: list[str] | None = None, prog: str = "placeclust compare") -> int
                    "suites, settings, renders or buildings, on the buildings they share")
     p.add_argument("--docs", metavar="FILE", help="also write the table into FILE's section "
                    "compare-<A>-<B> (docs/benchmarks.md)")
+    p.add_argument("--section", help="the section's name instead of compare-<A>-<B>, e.g. "
+                   "for the same pair on two sizes of a suite")
     argv = sys.argv[1:] if argv is None else list(argv)
     args = p.parse_args(argv)
     try:
@@ -150,19 +154,35 @@ def main(argv: list[str] | None = None, prog: str = "placeclust compare") -> int
     va, vb = (d["provenance"]["versions"].get("placeclust") for d in (a, b))
     if va != vb:
         print(f"note: placeclust {va} against {vb}")
-    agents = a["settings"].get("agent"), b["settings"].get("agent")
-    if agents[0] != agents[1]:  # the same recognizer under two agents: say which is which
-        name_a, name_b = f"{name_a} ({agents[0]})", f"{name_b} ({agents[1]})"
+    name_a, name_b = _labels(a, b, name_a, name_b)
     text, figures = table(rows_a, rows_b, name_a, name_b)
-    body = (f"Paired on {len(rows_a)} buildings {[r['scene_seed'] for r in rows_a]}, suite "
-            f"{a['provenance'].get('suite')} ({a['provenance'].get('size')}); errand figures "
-            f"errand-weighted.\n\n{text}\n\n{verdict(figures, name_a, name_b, len(rows_a))}")
+    seeds = [r["scene_seed"] for r in rows_a]
+    span = (f"{seeds[0]}–{seeds[-1]}" if len(seeds) > 2 and seeds == list(
+        range(seeds[0], seeds[-1] + 1)) else ", ".join(map(str, seeds)))
+    sizes = sorted({str(d["provenance"].get("size")) for d in (a, b)})
+    flags = "".join(f"\n- compared anyway (--force): {line}" for line in found)
+    body = (f"Paired on {len(rows_a)} buildings (scene seeds {span}), suite "
+            f"{a['provenance'].get('suite')} ({' and '.join(sizes)}); errand figures "
+            f"errand-weighted.{flags}\n\n{text}\n\n"
+            f"{verdict(figures, name_a, name_b, len(rows_a))}")
     print(body)
     if args.docs:
         slug = "-".join(re.sub(r"[^a-z0-9]+", "-", n.lower()).strip("-")
                         for n in (name_a, name_b))
-        write_section(args.docs, f"compare-{slug}", body, shlex.join([*prog.split(), *argv]))
+        write_section(args.docs, args.section or f"compare-{slug}", body,
+                      shlex.join([*prog.split(), *argv]))
     return 0
+
+
+def _labels(a: dict[str, Any], b: dict[str, Any], name_a: str, name_b: str
+            ) -> tuple[str, str]:
+    """The two sides' names, with the agent or the suite size added where the files differ
+    in it: the same recognizer under two agents, or after a short and a long tour."""
+    for where, key in (("settings", "agent"), ("provenance", "size")):
+        va, vb = a[where].get(key), b[where].get(key)
+        if va != vb:
+            name_a, name_b = f"{name_a} ({va})", f"{name_b} ({vb})"
+    return name_a, name_b
 
 
 if __name__ == "__main__":

@@ -22,7 +22,11 @@ A ``package.module:Class`` among the recognizers is one of your own, with ``--pr
 Each (recognizer, building) is one job on a ``spawn`` process pool or Ray; its result is kept in
 ``OUT/runs/``, so an interrupted run resumes where it stopped; a kept result is used again only
 if the code, libraries and rendering that made it are this run's
-(:func:`~envs.commands.closed_loop.stamp`).
+(:func:`~envs.commands.closed_loop.stamp`). On one machine the jobs take ``--workers``
+processes; ``--executor ray`` with Ray's ``RAY_ADDRESS`` set spreads them over that cluster
+(every node with placeclust installed), and the rows come back to ``OUT`` here:
+
+    RAY_ADDRESS=head-node:6379 placeclust leaderboard --suite placenav-v1 --executor ray
 """
 
 from __future__ import annotations
@@ -152,7 +156,9 @@ def main(argv: list[str] | None = None, prog: str = "placeclust leaderboard"
     p.add_argument("--seed", type=int, default=0)
     p.add_argument("--out", type=Path, default=Path("runs/leaderboard"))
     p.add_argument("--workers", type=int, default=2)
-    p.add_argument("--executor", choices=("process", "ray"), default="process")
+    p.add_argument("--executor", choices=("process", "ray"), default="process",
+                   help="a local process pool, or Ray: a local instance of --workers CPUs, or "
+                   "the cluster at RAY_ADDRESS if set")
     p.add_argument("--docs", metavar="FILE", help="also write the table into FILE's section "
                    "leaderboard-<suite or split>[-<size>][-<agent>] (docs/benchmarks.md)")
     argv = sys.argv[1:] if argv is None else list(argv)

@@ -32,7 +32,8 @@ def run_all(fn: Callable[[Job], Any], jobs: list[Job], workers: int = 1,
         workers: processes (or Ray CPUs of a local Ray instance); 1 runs in this process,
             which is easier to debug and profile.
         executor: ``"process"`` (a local pool of spawned processes) or ``"ray"``.
-        address: with ``"ray"``, the cluster to join (None starts a local instance).
+        address: with ``"ray"``, the cluster to join; None joins the one in the environment
+            variable ``RAY_ADDRESS`` (Ray's convention) if set, else starts a local instance.
 
     Raises:
         ValueError: an unknown executor, or ``"ray"`` without Ray installed.
@@ -92,6 +93,8 @@ def _ray(fn: Callable, jobs: list, workers: int, address: str | None
     except ImportError as exc:
         raise ValueError("executor 'ray' needs Ray: pip install 'placeclust[ray]'") from exc
     if not ray.is_initialized():
+        # a cluster's CPUs are its own: num_cpus is only for the instance started here
+        address = address or os.environ.get("RAY_ADDRESS")
         kwargs = {"address": address} if address else {"num_cpus": max(workers, 1)}
         ray.init(include_dashboard=False, log_to_driver=False, **kwargs)
     task = ray.remote(num_cpus=1)(_call)  # a function: Ray cannot make a partial remote

@@ -42,6 +42,10 @@ def test_compare_prints_the_paired_table_and_the_verdict(results, capsys):
     docs = results.parent / "benchmarks.md"
     compare.main([str(results), str(results), "--a", "good", "--b", "poor", "--docs", str(docs)])
     assert "BEGIN GENERATED compare-good-poor" in docs.read_text()
+    assert "Paired on 4 buildings (scene seeds 0–3)" in docs.read_text()
+    compare.main([str(results), str(results), "--a", "good", "--b", "poor", "--docs", str(docs),
+                  "--section", "compare-full"])
+    assert docs.read_text().count("| success_rate | 1.000 | 0.250 |") == 2  # a second section
 
 
 def test_compare_says_when_the_sample_cannot_decide(results, capsys):
@@ -93,3 +97,21 @@ def test_one_recognizer_under_two_agents_is_compared_by_agent(results, tmp_path,
     assert compare.main([str(results), str(path), "--a", "good", "--b", "good"]) == 0
     out = capsys.readouterr().out
     assert "A: good (planner)" in out and "B: good (ppo)" in out and "FLAG" not in out
+
+
+def test_one_recognizer_after_short_and_long_tours_is_compared_by_size(results, tmp_path,
+                                                                        capsys):
+    other = copy.deepcopy(load_results(results))
+    other["provenance"]["size"] = "long"
+    other["settings"]["task"] = {"tour_steps_per_room": 500}
+    path = tmp_path / "long.json"
+    path.write_text(json.dumps(other))
+    docs = tmp_path / "benchmarks.md"
+    argv = [str(path), str(results), "--a", "good", "--b", "good", "--force",
+            "--docs", str(docs)]
+    assert compare.main(argv) == 0
+    out = capsys.readouterr().out
+    assert "A: good (long)" in out and "B: good (quick)" in out
+    assert "suite placenav-v1 (long and quick)" in out
+    # what --force let through is said in the docs too, not only on the terminal
+    assert "compared anyway (--force): size: long against quick" in docs.read_text()

@@ -20,6 +20,22 @@ def test_an_unknown_executor_is_named():
         list(run_all(abs, [1], executor="dask"))
 
 
+def test_ray_joins_the_cluster_named_in_ray_address(monkeypatch):
+    ray = pytest.importorskip("ray")
+    seen: dict = {}
+
+    def init(**kwargs):
+        seen.update(kwargs)
+        raise RuntimeError("no cluster here")
+
+    monkeypatch.setattr(ray, "is_initialized", lambda: False)
+    monkeypatch.setattr(ray, "init", init)
+    monkeypatch.setenv("RAY_ADDRESS", "10.0.0.7:6379")
+    with pytest.raises(RuntimeError, match="no cluster"):
+        list(run_all(abs, [1], workers=4, executor="ray"))
+    assert seen["address"] == "10.0.0.7:6379" and "num_cpus" not in seen  # its CPUs, not ours
+
+
 def _stat(pid: int | str) -> list[str] | None:
     """A process's ``/proc/PID/stat`` fields after its name (state, parent, ...), or ``None``
     once it is gone or a zombie."""
