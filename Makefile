@@ -77,6 +77,7 @@ benchmarks: $(VENV)/.installed
 	$(VENV)/bin/placeclust leaderboard --suite placenav-v1 --out runs/leaderboard $(DOCS)
 	$(VENV)/bin/placeclust compare runs/leaderboard/results.json runs/leaderboard/results.json \
 		--a panorama --b panorama-orb $(DOCS) --section compare-placenav-v1
+	$(VENV)/bin/placeclust leaderboard --suite placenav-v1 --size long --out runs/long $(DOCS)
 
 # the benchmark matrix (envs/commands/bench.py): results.csv, results.md, precision.png, latency.png
 bench-quick: $(VENV)/.installed
