@@ -32,7 +32,7 @@ from typing import Any
 from placeclust.docs_section import write_section
 from placeclust.stats import paired_difference, probability_of_improvement
 
-from .results import groups, load_results
+from .results import groups, load_results, seed_span
 
 #: below this many buildings a bootstrap interval covers too little to decide on
 FEW = 10
@@ -157,8 +157,7 @@ def main(argv: list[str] | None = None, prog: str = "placeclust compare") -> int
     name_a, name_b = _labels(a, b, name_a, name_b)
     text, figures = table(rows_a, rows_b, name_a, name_b)
     seeds = [r["scene_seed"] for r in rows_a]
-    span = (f"{seeds[0]}–{seeds[-1]}" if len(seeds) > 2 and seeds == list(
-        range(seeds[0], seeds[-1] + 1)) else ", ".join(map(str, seeds)))
+    span = seed_span(seeds)
     sizes = sorted({str(d["provenance"].get("size")) for d in (a, b)})
     flags = "".join(f"\n- compared anyway (--force): {line}" for line in found)
     body = (f"Paired on {len(rows_a)} buildings (scene seeds {span}), suite "

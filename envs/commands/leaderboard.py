@@ -50,7 +50,7 @@ from .closed_loop import (
     run_settings,
     tour_task,
 )
-from .results import TARGET_HALF_WIDTH, interval_text, write_results
+from .results import TARGET_HALF_WIDTH, interval_text, seed_span, write_results
 from .suite import SIZES, SUITES, get_suite, provenance
 
 
@@ -199,7 +199,7 @@ def _describe(args: argparse.Namespace, seeds: list[int], summaries: list[dict[s
     rho = rank_agreement(summaries) if len(summaries) > 2 else float("nan")
     minutes = sum(s["seconds"] for s in summaries) / 60
     where = f"{args.split} split, scene seeds" if args.split else "scene seeds"
-    span = f"{seeds[0]}–{seeds[-1]}" if seeds == list(range(seeds[0], seeds[-1] + 1)) else seeds
+    span = seed_span(seeds)
     suite = (f"Suite `{prov['suite']}` ({prov['size']}), placeclust "
              f"{prov['versions']['placeclust']}, render fingerprint "
              f"`{prov['render_fingerprint']}`. " if prov["suite"] else "")

@@ -70,6 +70,14 @@ def summarize(rows: list[dict[str, Any]]) -> dict[str, Any]:
     return out
 
 
+def seed_span(seeds: list[int]) -> str:
+    """Scene seeds as a report names them: ``2000–2059`` when they run on without a gap,
+    else listed (``0, 5, 9``)."""
+    if len(seeds) > 2 and seeds == list(range(seeds[0], seeds[-1] + 1)):
+        return f"{seeds[0]}–{seeds[-1]}"
+    return ", ".join(map(str, seeds))
+
+
 def interval_text(summary: dict[str, Any], metric: str, digits: int = 2) -> str:
     """``"0.82 [0.68, 0.91]"`` from a summary."""
     low, high = summary[f"{metric}_interval"]
