@@ -78,6 +78,8 @@ benchmarks: $(VENV)/.installed
 	$(VENV)/bin/placeclust compare runs/leaderboard/results.json runs/leaderboard/results.json \
 		--a panorama --b panorama-orb $(DOCS) --section compare-placenav-v1
 	$(VENV)/bin/placeclust leaderboard --suite placenav-v1 --size long --out runs/long $(DOCS)
+	for r in panorama panorama-orb; do $(VENV)/bin/placeclust compare runs/long/results.json \
+		runs/quick/results.json --a $$r --b $$r --force $(DOCS) --section compare-long-quick-$$r; done
 
 # the benchmark matrix (envs/commands/bench.py): results.csv, results.md, precision.png, latency.png
 bench-quick: $(VENV)/.installed
