@@ -7,7 +7,7 @@ PIP := $(PY) -m pip
 export MUJOCO_GL ?= egl
 
 .PHONY: demo test benchmarks bench bench-quick bench-long bench-env bench-latency train eval \
-	leaderboard train-errands seed001 clean
+	leaderboard train-errands train-tour agents-tour seed001 clean
 
 $(VENV)/.installed: pyproject.toml
 	$(PYTHON) -m venv $(VENV)
@@ -118,6 +118,38 @@ seed001: $(VENV)/.installed
 train-errands: $(VENV)/.installed
 	$(PY) -m train.train --agent errands --config train/hyperparams/ppo_errands.yml \
 		--out runs/train/errands_s0
+
+# errand agents on their own in buildings never seen (envs/agents/tour_features.py), carried to
+# each errand's start: each trains on train buildings in about 5 minutes on 2 cores
+TOUR_AGENTS := noplace place oracle
+train-tour: $(VENV)/.installed
+	for a in $(TOUR_AGENTS); do \
+		$(PY) -m train.train --agent $$a --config train/hyperparams/ppo_tour_carried.yml \
+			--out runs/train/carried_$$a --no-progress || exit 1; done
+
+# and scores them on test buildings, paired, beside the planner on the same maps (~35 minutes):
+# the shipped policies, or yours after make train-tour with TOUR_POLICIES=runs/train
+TOUR_POLICIES ?= assets/policies/tour
+AGENT_ERRANDS := --split test --n-scenes 20 --rooms 6 --goals-per-scene 5 --workers 2 \
+	--errand-start carried --out runs/agents/carried
+agents-tour: $(VENV)/.installed
+	$(VENV)/bin/placeclust errands $(AGENT_ERRANDS) --recognizer none --agent ppo \
+		--policy $(TOUR_POLICIES)/carried_noplace/policy.zip --json runs/agents/carried-noplace.json
+	for a in place oracle; do $(VENV)/bin/placeclust errands $(AGENT_ERRANDS) \
+		--recognizer panorama-orb --agent ppo --policy $(TOUR_POLICIES)/carried_$$a/policy.zip \
+		--json runs/agents/carried-$$a.json || exit 1; done
+	$(VENV)/bin/placeclust errands $(AGENT_ERRANDS) --recognizer oracle --agent ppo \
+		--policy $(TOUR_POLICIES)/carried_place/policy.zip --json runs/agents/carried-place-true.json
+	$(VENV)/bin/placeclust errands $(AGENT_ERRANDS) --recognizer panorama-orb --agent planner \
+		--json runs/agents/carried-planner.json
+	$(VENV)/bin/placeclust compare runs/agents/carried-place.json \
+		runs/agents/carried-noplace.json $(DOCS) --section agents-carried-place-noplace
+	$(VENV)/bin/placeclust compare runs/agents/carried-oracle.json \
+		runs/agents/carried-place.json $(DOCS) --section agents-carried-oracle-place
+	$(VENV)/bin/placeclust compare runs/agents/carried-place-true.json \
+		runs/agents/carried-place.json $(DOCS) --section agents-carried-place-recognition
+	$(VENV)/bin/placeclust compare runs/agents/carried-place.json \
+		runs/agents/carried-planner.json $(DOCS) --section agents-carried-place-planner
 
 clean:
 	rm -rf $(VENV) runs .pytest_cache .ruff_cache

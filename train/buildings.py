@@ -10,34 +10,52 @@ import numpy as np
 
 import envs  # noqa: F401  (registers the environments)
 from envs.agents.hints import PlannerHints
+from envs.agents.tour_features import SENSES, TourFeatures
 from envs.world.splits import check_split
+
+#: what the agent observes: the planner's hints (a residual agent) or one of the tour features
+OBSERVE = ("hints", *SENSES)
 
 
 class TrainBuildings(gym.Env):
-    """A new building every ``episodes_per_building`` episodes, in turn from ``scene_seeds``.
+    """A new building every ``episodes_per_building`` episodes, drawn from ``scene_seeds``.
 
     Args:
         scene_seeds: ``train``-split scene seeds (a seed of another split is a ``ValueError``:
             agents never train where they are scored).
         episodes_per_building: episodes before the next building is built.
-        **task: ``PlaceNav-GuidedTour-v1`` arguments (``recognizer``, ``n_rooms``...).
+        observe: ``"hints"`` (:class:`~envs.agents.hints.PlannerHints`, the residual agent) or
+            one of :data:`~envs.agents.tour_features.SENSES`
+            (:class:`~envs.agents.tour_features.TourFeatures`, an agent on its own).
+        n_rooms: the rooms of each building, or a list to draw each building's from.
+        repeat: env steps each action is held for (tour features only).
+        **task: more ``PlaceNav-GuidedTour-v1`` arguments (``recognizer``, ``layout``...).
     """
 
     def __init__(self, scene_seeds: Sequence[int], episodes_per_building: int = 1,
+                 observe: str = "hints", n_rooms: int | Sequence[int] = 6, repeat: int = 1,
                  **task: Any) -> None:
         check_split("train", scene_seeds)
+        if observe not in OBSERVE:
+            raise ValueError(f"unknown observe {observe!r}; choose one of {OBSERVE}")
         self.scene_seeds = list(scene_seeds)
         self.episodes_per_building = episodes_per_building
+        self.observe = observe
+        self.repeat = repeat
+        self.room_counts = [n_rooms] if isinstance(n_rooms, int) else list(n_rooms)
         self.task = task
         self._episodes = 0
-        self._env = self._make(self.scene_seeds[0])
+        self._env = self._make(self.scene_seeds[0], self.room_counts[0])
         self.observation_space = self._env.observation_space
         self.action_space = self._env.action_space
 
-    def _make(self, scene_seed: int) -> gym.Env:
+    def _make(self, scene_seed: int, n_rooms: int) -> gym.Env:
         self.scene_seed = scene_seed  # the building of the current episode
-        return PlannerHints(gym.make("PlaceNav-GuidedTour-v1", scene_seed=scene_seed,
-                                     **self.task))
+        env = gym.make("PlaceNav-GuidedTour-v1", scene_seed=scene_seed, n_rooms=n_rooms,
+                       **self.task)
+        if self.observe == "hints":
+            return PlannerHints(env)
+        return TourFeatures(env, self.observe, self.repeat)
 
     def reset(self, *, seed: int | None = None, options: dict[str, Any] | None = None
               ) -> tuple[np.ndarray, dict[str, Any]]:
@@ -45,7 +63,8 @@ class TrainBuildings(gym.Env):
         if self._episodes and self._episodes % self.episodes_per_building == 0:
             self._env.close()
             scene = self.scene_seeds[int(self.np_random.integers(len(self.scene_seeds)))]
-            self._env = self._make(scene)
+            rooms = self.room_counts[int(self.np_random.integers(len(self.room_counts)))]
+            self._env = self._make(scene, rooms)
         self._episodes += 1
         return self._env.reset(seed=int(self.np_random.integers(2**31)), options=options)
 

@@ -6,9 +6,13 @@
 | ``noplace`` | nothing: it must find its way from the rangefinders and compass alone |
 | ``oracle`` | ``place_id`` = the ground-truth room: the upper bound |
 | ``planner`` | all of ``PlaceNav``'s keys, ``goal_panorama`` and ``place_id`` (no learning) |
-| ``errands`` | guided tours of many buildings, through the tour planner's hints |
+| ``errands`` | guided tours of many buildings (:class:`train.buildings.TrainBuildings`) |
 
-``errands`` is another task (``PlaceNav-GuidedTour-v1``, :mod:`envs.agents.hints`).
+``errands`` is another task, ``PlaceNav-GuidedTour-v1`` in a new ``train`` building every
+episode. Its config's ``observe`` says what the agent sees: ``hints``, the tour planner's
+suggestion to correct (:mod:`envs.agents.hints`, ``ppo_errands.yml``), or ``noplace``,
+``place`` or ``oracle``, an agent on its own (:mod:`envs.agents.tour_features`,
+``ppo_tour.yml`` and ``ppo_tour_carried.yml``).
 
 No agent sees the panorama itself: learning from pixels is not what this benchmark is about,
 and it would not train on a CPU in an hour.

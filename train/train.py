@@ -31,6 +31,8 @@ from train.make import AGENTS, make_env
 from train.mapping import EDGES_FILE, MAP_FILE, build_map
 
 TRAINABLE = tuple(a for a in AGENTS if a != "planner")
+#: the learners a config's ``algo`` names: PPO, or sb3-contrib's PPO with an LSTM (memory)
+ALGOS = ("ppo", "recurrent_ppo")
 #: ``env`` keys of a config that change the world a map is made in (its ``world_id``)
 MAP_WORLD_KEYS = ("layout", "extra_doors", "panorama_width", "panorama_height", "n_cameras")
 
@@ -57,17 +59,25 @@ def prepare_map(agent: str, out: Path, env_cfg: dict[str, Any], given: Path | No
 def train(agent: str, seed: int = 0, out: Path | None = None, timesteps: int | None = None,
           n_envs: int | None = None, map_dir: Path | None = None, progress: bool = True,
           config_path: Path = HYPERPARAMS) -> Path:
-    """Train ``agent`` and return the path of the saved policy."""
-    from stable_baselines3 import PPO
+    """Train ``agent`` (a section of the config) and return the path of the saved policy.
+
+    A section's ``env`` may name the :func:`train.make.make_env` agent it trains (``kind``,
+    default the section's name): ``ppo_tour.yml``'s ``place`` and ``place_lstm`` both train
+    ``kind: errands``, one with PPO and one with ``algo: recurrent_ppo``.
+    """
     from stable_baselines3.common.callbacks import CheckpointCallback
     from stable_baselines3.common.env_util import make_vec_env
     from stable_baselines3.common.logger import configure
     from stable_baselines3.common.vec_env import DummyVecEnv, SubprocVecEnv
 
-    if agent not in TRAINABLE:
-        raise ValueError(f"unknown agent {agent!r}; trainable agents are {TRAINABLE}")
     cfg = load_config(agent, config_path)
     env_cfg = dict(cfg.pop("env", {}))
+    kind = env_cfg.pop("kind", agent)
+    if kind not in TRAINABLE:
+        raise ValueError(f"unknown agent {kind!r}; trainable agents are {TRAINABLE}")
+    algo = cfg.pop("algo", "ppo")
+    if algo not in ALGOS:
+        raise ValueError(f"unknown algo {algo!r} in {config_path}; choose one of {ALGOS}")
     # agents train on train-split buildings only: val chooses, test reports (envs.world.splits)
     check_split("train", env_cfg.get("scene_seeds", [env_cfg.get("scene_seed", 0)]))
     map_cfg = dict(cfg.pop("map", {}))
@@ -79,19 +89,21 @@ def train(agent: str, seed: int = 0, out: Path | None = None, timesteps: int | N
     policy = cfg.pop("policy")
     out = Path(out or f"runs/train/{agent}_s{seed}")
     out.mkdir(parents=True, exist_ok=True)
-    map_path = prepare_map(agent, out, env_cfg, map_dir, progress, map_cfg)
+    map_path = prepare_map(kind, out, env_cfg, map_dir, progress, map_cfg)
     (out / "config.yml").write_text(yaml.safe_dump(
         {"agent": agent, "seed": seed, "n_envs": n_envs, "n_timesteps": timesteps,
-         "policy": policy, "env": env_cfg, **_map_record(map_path, map_dir, map_cfg), **cfg}))
+         "algo": algo, "policy": policy, "env": {"kind": kind, **env_cfg},
+         **_map_record(map_path, map_dir, map_cfg), **cfg}))
+    learner = _learner(algo)
     with _one_thread_each(n_envs > 1):
         # spawned workers: a worker forked from a process that has rendered deadlocks in
         # Mesa's EGL
-        venv = make_vec_env(functools.partial(make_env, agent, map_path=map_path, **env_cfg),
+        venv = make_vec_env(functools.partial(make_env, kind, map_path=map_path, **env_cfg),
                             n_envs=n_envs, seed=seed,
                             vec_env_cls=SubprocVecEnv if n_envs > 1 else DummyVecEnv,
                             vec_env_kwargs={"start_method": "spawn"} if n_envs > 1 else None,
                             monitor_kwargs={"info_keywords": ("is_success",)})
-        model = PPO(policy, venv, seed=seed, device="cpu", verbose=0, **cfg)
+        model = learner(policy, venv, seed=seed, device="cpu", verbose=0, **cfg)
         model.set_logger(configure(str(out), ["csv", "stdout"] if progress else ["csv"]))
         checkpoints = CheckpointCallback(max(timesteps // 10 // n_envs, 1),
                                          str(out / "checkpoints"), name_prefix="ppo")
@@ -102,9 +114,23 @@ def train(agent: str, seed: int = 0, out: Path | None = None, timesteps: int | N
         venv.close()
     model.save(out / "policy.zip")
     (out / "train_info.json").write_text(json.dumps(
-        {"agent": agent, "seed": seed, "timesteps": timesteps, "n_envs": n_envs,
+        {"agent": agent, "algo": algo, "seed": seed, "timesteps": timesteps, "n_envs": n_envs,
          "minutes": round(minutes, 2), "versions": _versions()}, indent=2))
     return out / "policy.zip"
+
+
+def _learner(algo: str) -> Any:
+    """The stable-baselines3 class for ``algo`` (one of :data:`ALGOS`)."""
+    if algo == "recurrent_ppo":
+        try:
+            from sb3_contrib import RecurrentPPO
+        except ImportError as exc:  # an install without the train extra
+            raise ValueError("algo: recurrent_ppo needs sb3-contrib: pip install "
+                             "'placeclust[train]'") from exc
+        return RecurrentPPO
+    from stable_baselines3 import PPO
+
+    return PPO
 
 
 def _map_record(map_path: Path | None, given: Path | None, map_cfg: dict[str, Any]
@@ -142,10 +168,12 @@ def _one_thread_each(enabled: bool) -> Iterator[None]:
 def _versions() -> dict[str, str]:
     import gymnasium
     import mujoco
+    import sb3_contrib
     import stable_baselines3
     import torch
 
-    return {"stable_baselines3": stable_baselines3.__version__, "torch": torch.__version__,
+    return {"stable_baselines3": stable_baselines3.__version__,
+            "sb3_contrib": sb3_contrib.__version__, "torch": torch.__version__,
             "gymnasium": gymnasium.__version__, "mujoco": mujoco.__version__,
             "python": sys.version.split()[0]}
 
@@ -153,7 +181,8 @@ def _versions() -> dict[str, str]:
 def main(argv: list[str] | None = None) -> int:
     p = argparse.ArgumentParser(prog="python -m train.train", description=__doc__,
                                 formatter_class=argparse.RawDescriptionHelpFormatter)
-    p.add_argument("--agent", default="place", choices=TRAINABLE)
+    p.add_argument("--agent", default="place",
+                   help="a section of the config (ppo.yml: place, noplace, oracle, errands)")
     p.add_argument("--seed", type=int, default=0)
     p.add_argument("--out", type=Path, help="run folder (default runs/train/<agent>_s<seed>)")
     p.add_argument("--timesteps", type=int, help="override n_timesteps of the config")

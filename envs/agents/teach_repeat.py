@@ -82,7 +82,7 @@ class TourPlanner:
         self.names: dict[str, int] = {}
 
     def reset(self, tour, obs: dict[str, np.ndarray]) -> None:
-        """Learn the map from ``tour`` (a :class:`~envs.tasks.guided_tour.TourRecord`)."""
+        """Learn the map from ``tour`` (a :class:`~envs.tasks.records.TourRecord`)."""
         self.dt = tour.control_dt
         self.path = dead_reckon(tour.odometry, tour.heading, self.dt)
         self.pos = self.path[-1].copy()

@@ -43,12 +43,15 @@ from placeclust.progress import progress as progress_bar
 from placeclust.runner import preset_params, recognizer_class
 
 from ..agents import hints
+from ..agents.learned import LearnedAgent
 from ..agents.teach_repeat import TourPlanner
-from ..tasks.guided_tour import RECOGNIZERS, check_recognizer_name, make_recognizer
+from ..tasks.guided_tour import ERRAND_STARTS
+from ..tasks.recognizers import RECOGNIZERS, check_recognizer_name, make_recognizer
+from ..world.scene import LAYOUTS
 from ..world.splits import add_scope_arguments, scope_seeds
 from ..world.textures import ASSETS
 from .pool import run_all
-from .results import interval_text, summarize, write_results
+from .results import interval_text, policy_name, summarize, write_results
 from .store import RunStore
 from .suite import library_versions, provenance, render_fingerprint, sources_fingerprint
 
@@ -66,12 +69,13 @@ def run_scene(scene_seed: int, n_rooms: int = 6, recognizer: str = "panorama",
 
     Args:
         scene_seed, n_rooms: the building.
-        recognizer: one of :data:`~envs.tasks.guided_tour.RECOGNIZERS`, or
-            ``package.module:Class`` (:func:`~envs.tasks.guided_tour.make_recognizer`).
+        recognizer: one of :data:`~envs.tasks.recognizers.RECOGNIZERS`, or
+            ``package.module:Class`` (:func:`~envs.tasks.recognizers.make_recognizer`).
         agent: one of :data:`ERRAND_AGENTS`.
         goals: errands after the tour.
         seed: the episode's seed (with the scene seed: the tour's route and the errands' goals).
-        policy: the ``ppo`` agent's policy (default: the shipped one).
+        policy: the ``ppo`` agent's policy (default: the shipped one); the ``config.yml``
+            beside it says what it observes (:class:`~envs.agents.learned.LearnedAgent`).
         recognizer_params: the recognizer's constructor arguments.
         **task: more ``PlaceNav-GuidedTour-v1`` arguments.
 
@@ -83,17 +87,16 @@ def run_scene(scene_seed: int, n_rooms: int = 6, recognizer: str = "panorama",
     if agent not in ERRAND_AGENTS:
         raise ValueError(f"unknown agent {agent!r}; choose one of {ERRAND_AGENTS}")
     check_recognizer_name(recognizer)
-    model = _load_policy(Path(policy or POLICY)) if agent == "ppo" else None
+    learned = LearnedAgent.load(policy or POLICY) if agent == "ppo" else None
     start = time.perf_counter()
     env = gym.make("PlaceNav-GuidedTour-v1", recognizer=recognizer, scene_seed=scene_seed,
                    n_rooms=n_rooms, n_errands=goals, recognizer_params=recognizer_params,
                    **task)
-    if model is not None:  # the learned agent sees the planner's hints and corrects its action
-        env = hints.PlannerHints(env, seed)
+    if learned is not None:  # the policy sees what it was trained on (envs.agents.learned)
+        env = learned.wrap(env, seed)
     try:
         obs, info = env.reset(seed=seed * 100_003 + scene_seed)
-        act = (_agent(agent, env, info, obs, seed) if model is None
-               else lambda x: model.predict(x, deterministic=True)[0])
+        act = _agent(agent, env, info, obs, seed) if learned is None else learned.actor()
         done = False
         while not done:
             obs, _, done, _, step_info = env.step(act(obs))
@@ -117,23 +120,12 @@ def _agent(kind: str, env: gym.Env, info: dict, obs: dict, seed: int):
     return planner.act
 
 
-def _load_policy(policy: Path):
-    """The PPO errand agent's model (:mod:`envs.agents.hints`)."""
-    from stable_baselines3 import PPO
-
-    if not policy.is_file():
-        raise FileNotFoundError(f"no policy file {policy}; train one with python -m "
-                                "train.train --agent errands --config "
-                                "train/hyperparams/ppo_errands.yml")
-    return PPO.load(policy, device="cpu")
-
-
 #: the slow recognizers first, so the last job to finish is a short one
 COST = {"panorama": 0, "nested": 1, "panorama-orb": 2, "random": 3, "none": 4, "oracle": 5}
 def check_closed_loop_recognizer(name: str, params: dict[str, Any] | None = None) -> None:
     """Check a recognizer before any building is toured, so a bad one costs no minutes.
 
-    A name of :data:`~envs.tasks.guided_tour.RECOGNIZERS` is built once with ``params``; a
+    A name of :data:`~envs.tasks.recognizers.RECOGNIZERS` is built once with ``params``; a
     ``package.module:Class`` must load, be online and pass
     :func:`placeclust.checks.check_recognizer` with ``params``.
 
@@ -172,7 +164,7 @@ _KEY_FIELDS = frozenset({"scene_seed", "n_rooms", "recognizer", "agent", "goals"
 
 def job_key(job: dict[str, Any]) -> str:
     """The file name of a job's result: everything that changes it."""
-    policy = f"-{Path(job['policy']).stem}" if job.get("policy") else ""
+    policy = f"-{policy_name(job['policy'])}" if job.get("policy") else ""
     extra = {k: v for k, v in job.items() if k not in _KEY_FIELDS}
     if extra:  # recognizer_params, tour length...: a short hash, values need not make a name
         text = json.dumps(extra, sort_keys=True, default=repr)
@@ -254,10 +246,18 @@ def _run_job(job: dict[str, Any]) -> dict[str, Any]:
 TOUR_STEPS_PER_ROOM = 150
 
 
-def tour_task(steps_per_room: int) -> dict[str, Any]:
-    """The ``PlaceNav-GuidedTour-v1`` arguments a job adds for a tour length: none for the
-    default (:data:`TOUR_STEPS_PER_ROOM`), so default jobs keep their plain file names."""
-    return {} if steps_per_room == TOUR_STEPS_PER_ROOM else {"tour_steps_per_room": steps_per_room}
+def tour_task(steps_per_room: int, errand_start: str = "continue", layout: str = "grid"
+              ) -> dict[str, Any]:
+    """The ``PlaceNav-GuidedTour-v1`` arguments a job adds for a tour length, errand start and
+    layout: none for the defaults, so default jobs keep their plain file names."""
+    task: dict[str, Any] = {}
+    if steps_per_room != TOUR_STEPS_PER_ROOM:
+        task["tour_steps_per_room"] = steps_per_room
+    if errand_start != "continue":
+        task["errand_start"] = errand_start
+    if layout != "grid":
+        task["layout"] = layout
+    return task
 
 
 def run_settings(args: argparse.Namespace, seeds: list[int], task: dict[str, Any]
@@ -267,6 +267,7 @@ def run_settings(args: argparse.Namespace, seeds: list[int], task: dict[str, Any
     ``goals_per_scene``, ``seed`` and ``agent``."""
     return {"split": args.split, "scene_seeds": seeds, "rooms": args.rooms,
             "goals": args.goals_per_scene, "seed": args.seed, "agent": args.agent,
+            "policy": None if getattr(args, "policy", None) is None else str(args.policy),
             "task": task}
 
 
@@ -322,6 +323,12 @@ def main(argv: list[str] | None = None, prog: str = "placeclust errands") -> int
     p.add_argument("--goals-per-scene", type=int, default=5)
     p.add_argument("--tour-steps-per-room", type=int, default=TOUR_STEPS_PER_ROOM,
                    help="the guided tour's length per room (PlaceNav-GuidedTour-v1's)")
+    p.add_argument("--errand-start", choices=ERRAND_STARTS, default="continue",
+                   help="where each errand starts: where the last ended, or carried to a "
+                   "random room (PlaceNav-GuidedTour-v1's errand_start)")
+    p.add_argument("--layout", choices=LAYOUTS, default="grid",
+                   help="the buildings: rooms of random sizes, or identical offices along a "
+                   "corridor (--rooms counts the corridor)")
     p.add_argument("--seed", type=int, default=0)
     p.add_argument("--json", type=Path, help="also write the scores here")
     p.add_argument("--workers", type=int, default=1)
@@ -333,7 +340,7 @@ def main(argv: list[str] | None = None, prog: str = "placeclust errands") -> int
                 f"{args.goals_per_scene} and {args.tour_steps_per_room}")
     try:
         params = recognizer_params([args.recognizer], args.preset, args.param)
-        task = tour_task(args.tour_steps_per_room)
+        task = tour_task(args.tour_steps_per_room, args.errand_start, args.layout)
         jobs = make_jobs(seeds, [args.recognizer], args.rooms, args.agent,
                          args.goals_per_scene, args.seed, args.policy, params, **task)
         rows = run_jobs(jobs, args.out, args.workers)

@@ -30,9 +30,12 @@ from pathlib import Path
 from typing import Any
 
 from placeclust.docs_section import write_section
-from placeclust.stats import paired_difference, probability_of_improvement
+from placeclust.stats import interval, paired_difference, probability_of_improvement
 
-from .results import groups, load_results, seed_span
+from .results import groups, load_results, policy_name, seed_span
+
+#: settings that say who acted, not what was measured: results differing in them compare
+AGENT_KEYS = ("recognizers", "agent", "policy")
 
 #: below this many buildings a bootstrap interval covers too little to decide on
 FEW = 10
@@ -59,8 +62,8 @@ def differences(a: dict[str, Any], b: dict[str, Any]) -> list[str]:
         if pa.get(key) != pb.get(key):
             found.append(f"{key}: {pa.get(key)} against {pb.get(key)}")
     # what runs on the buildings, recognizer and agent, is what a comparison is about
-    sa = {k: v for k, v in a["settings"].items() if k not in ("recognizers", "agent")}
-    sb = {k: v for k, v in b["settings"].items() if k not in ("recognizers", "agent")}
+    sa = {k: v for k, v in a["settings"].items() if k not in AGENT_KEYS}
+    sb = {k: v for k, v in b["settings"].items() if k not in AGENT_KEYS}
     for key in sorted(set(sa) | set(sb)):
         if sa.get(key) != sb.get(key):
             found.append(f"settings {key}: {sa.get(key)} against {sb.get(key)}")
@@ -81,7 +84,8 @@ def paired_rows(a: dict[str, Any], b: dict[str, Any], name_a: str, name_b: str
 
 def table(rows_a: list[dict[str, Any]], rows_b: list[dict[str, Any]], name_a: str,
           name_b: str) -> tuple[str, dict[str, dict[str, float]]]:
-    """The markdown table of paired differences, and its figures by metric."""
+    """The markdown table of paired differences, and its figures by metric: each side's mean
+    with its own 95% interval over the shared buildings, then the paired difference."""
     lines = [f"| metric | A: {name_a} | B: {name_b} | A − B [95% interval] | P(A > B) |",
              "|---|---|---|---|---|"]
     figures = {}
@@ -91,7 +95,7 @@ def table(rows_a: list[dict[str, Any]], rows_b: list[dict[str, Any]], name_a: st
         better = probability_of_improvement(ga, gb)
         mean_a, mean_b = diff.mean + _mean(gb), _mean(gb)
         digits = 0 if metric == "mean_length" else 3
-        lines.append(f"| {metric} | {mean_a:.{digits}f} | {mean_b:.{digits}f} | "
+        lines.append(f"| {metric} | {interval(ga).text(digits)} | {interval(gb).text(digits)} | "
                      f"{diff.text(digits)} | {better.text(2)} |")
         figures[metric] = {"a": mean_a, "b": mean_b, "difference": diff.mean,
                            "low": diff.low, "high": diff.high, "p_improvement": better.mean}
@@ -156,13 +160,14 @@ def main(argv: list[str] | None = None, prog: str = "placeclust compare") -> int
         print(f"note: placeclust {va} against {vb}")
     name_a, name_b = _labels(a, b, name_a, name_b)
     text, figures = table(rows_a, rows_b, name_a, name_b)
+    # the task's settings, where both ran the same (a difference is a FLAG line already)
+    task = a["settings"].get("task") or {}
+    task = task if task == (b["settings"].get("task") or {}) else {}
     seeds = [r["scene_seed"] for r in rows_a]
     span = seed_span(seeds)
-    sizes = sorted({str(d["provenance"].get("size")) for d in (a, b)})
     flags = "".join(f"\n- compared anyway (--force): {line}" for line in found)
-    body = (f"Paired on {len(rows_a)} buildings (scene seeds {span}), suite "
-            f"{a['provenance'].get('suite')} ({' and '.join(sizes)}); errand figures "
-            f"errand-weighted.{flags}\n\n{text}\n\n"
+    body = (f"Paired on {len(rows_a)} buildings (scene seeds {span}), {_suite(a, b, task)}; "
+            f"errand figures errand-weighted.{flags}\n\n{text}\n\n"
             f"{verdict(figures, name_a, name_b, len(rows_a))}")
     print(body)
     if args.docs:
@@ -173,15 +178,35 @@ def main(argv: list[str] | None = None, prog: str = "placeclust compare") -> int
     return 0
 
 
+def _suite(a: dict[str, Any], b: dict[str, Any], task: dict[str, Any]) -> str:
+    """Which suite and sizes the files belong to, or that they belong to none, and the task's
+    settings where they are not the defaults (e.g. carried errands)."""
+    suite = a["provenance"].get("suite")
+    if suite is None:
+        text = "no suite"
+    else:
+        sizes = sorted({str(d["provenance"].get("size")) for d in (a, b)})
+        text = f"suite {suite} ({' and '.join(sizes)})"
+    if task:
+        text += ", " + ", ".join(f"{k} {v}" for k, v in sorted(task.items()))
+    return text
+
+
 def _labels(a: dict[str, Any], b: dict[str, Any], name_a: str, name_b: str
             ) -> tuple[str, str]:
-    """The two sides' names, with the agent or the suite size added where the files differ
-    in it: the same recognizer under two agents, or after a short and a long tour."""
-    for where, key in (("settings", "agent"), ("provenance", "size")):
+    """The two sides' names, with the agent, its policy or the suite size added where the
+    files differ in it: the same recognizer under two agents, or after a short and a long
+    tour."""
+    for where, key in (("settings", "agent"), ("settings", "policy"), ("provenance", "size")):
         va, vb = a[where].get(key), b[where].get(key)
+        if key == "policy":  # two policies of the learned agent; another agent has none
+            if a["settings"].get("agent") != "ppo" or b["settings"].get("agent") != "ppo":
+                continue
+            va, vb = policy_name(va), policy_name(vb)
         if va != vb:
             name_a, name_b = f"{name_a} ({va})", f"{name_b} ({vb})"
     return name_a, name_b
+
 
 
 if __name__ == "__main__":

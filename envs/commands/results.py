@@ -106,3 +106,11 @@ def load_results(path: Path) -> dict[str, Any]:
         raise ValueError(f"{path} is not a {FORMAT} results file (written by placeclust "
                          "leaderboard or placeclust errands --json)")
     return doc
+
+
+def policy_name(policy: str | None) -> str:
+    """A policy's short name: its run folder for a ``policy.zip``, else its file's stem."""
+    if policy is None:
+        return "shipped"
+    path = Path(policy)
+    return path.parent.name if path.name == "policy.zip" else path.stem

@@ -25,152 +25,25 @@ from __future__ import annotations
 import math
 import string
 from collections.abc import Mapping, Sequence
-from dataclasses import dataclass
 from typing import Any
 
 import gymnasium as gym
 import numpy as np
 from gymnasium import spaces
 
-from placeclust import PANORAMA, PANORAMA_ORB, OnlinePlaceClustering
 from placeclust.metrics import score
-from placeclust.nested import NestedMapper
-from placeclust.null import NoPlaces, RandomPlaces
-from placeclust.protocol import is_offline, reads_images, resolve
-from placeclust.runner import check_params, make, recognizer_class
+from placeclust.protocol import reads_images, resolve
 
 from .goals import GoalRoom, NavTask
 from .place_id import PlaceIdWrapper, Recognizer
 from .place_nav import PlaceNavEnv
+from .recognizers import make_recognizer
+from .records import Errand, TourRecord
 from .tour import tour_steps
 
-#: recognizers by name: ``oracle`` gives the true room (the upper bound); ``panorama`` is seed
-#: 000's online recognizer in its 360° configuration with SIFT (the preset ``panorama``,
-#: :data:`placeclust.PANORAMA`), ``panorama-orb`` in ORB's (the preset ``panorama-orb``,
-#: :data:`placeclust.PANORAMA_ORB`, with ORB); ``nested`` seed 001 on the forward camera;
-#: ``random`` ids that mean nothing; ``none`` no ids at all. ``online`` is the paper's defaults
-#: everywhere in placeclust (``placeclust bench --algos online``), so it is not a name here.
-RECOGNIZERS = ("oracle", "panorama", "panorama-orb", "nested", "random", "none")
-#: the names these recognizers had before placeclust 0.13.0, for the error that says so
-RENAMED = {"online": "panorama", "online-orb": "panorama-orb"}
+#: where an errand starts: where the last one ended, or carried to a random room
+ERRAND_STARTS = ("continue", "carried")
 NAME_CHARSET = frozenset(string.ascii_lowercase + string.digits + " -_")
-
-
-def make_recognizer(name: str, n_rooms: int, max_places: int = 64,
-                    params: Mapping[str, Any] | None = None) -> Recognizer | None:
-    """A fresh recognizer for the closed loop (``None`` for ``oracle``, the true rooms).
-
-    Args:
-        name: one of :data:`RECOGNIZERS`, or ``package.module:Class``, an online recognizer of
-            your own (``learn_predict_one``, ``n_places``, ``graph``; see
-            :mod:`placeclust.checks`), loaded as ``placeclust cluster --algo`` loads it.
-        n_rooms: the building's rooms (``random`` draws ids from twice as many).
-        max_places: the cap of ``panorama`` and ``panorama-orb``'s maps.
-        params: a module path's constructor arguments (``features`` included). A name is one
-            configuration, so it takes none: for another, name the class with the arguments,
-            e.g. ``placeclust.online:OnlinePlaceClustering`` with ``PANORAMA``'s and yours.
-
-    Raises:
-        ValueError: an unknown name, a path that does not load or is not an online recognizer,
-            or parameters with a name.
-    """
-    params = dict(params or {})
-    if ":" in name:
-        return _own_recognizer(name, params)
-    check_recognizer_name(name)
-    if params:
-        raise ValueError(f"{name!r} is one configuration and takes no parameters, got "
-                         f"{sorted(params)}; give package.module:Class with them instead")
-    if name == "oracle":
-        return None
-    if name == "panorama":
-        return OnlinePlaceClustering("sift", **PANORAMA, max_places=max_places)
-    if name == "panorama-orb":
-        return OnlinePlaceClustering("orb", **PANORAMA_ORB, max_places=max_places)
-    if name == "nested":
-        return NestedMapper()
-    if name == "random":
-        return RandomPlaces(n_ids=2 * n_rooms)
-    return NoPlaces()
-
-
-def _own_recognizer(path: str, params: dict[str, Any]) -> Recognizer:
-    cls = recognizer_class(path)  # a ValueError that names a path or class that does not load
-    if is_offline(cls):
-        raise ValueError(f"{path} is an offline recognizer (fit_predict); the closed loop "
-                         "needs an online one (learn_predict_one)")
-    check_params(path, [k for k in params if k != "features"])
-    model = make(path, **params)
-    if not isinstance(model, Recognizer):
-        raise ValueError(f"{path} lacks what the closed loop reads of a recognizer: "
-                         "learn_predict_one, predict_one, n_places and graph")
-    return model
-
-
-def check_recognizer_name(name: str) -> None:
-    """A ``ValueError`` naming the choices if ``name`` is neither one of :data:`RECOGNIZERS` nor
-    a ``package.module:Class`` that loads."""
-    if name in RECOGNIZERS:
-        return
-    if ":" in name:
-        recognizer_class(name)
-        return
-    hint = f" ('{name}' was renamed '{RENAMED[name]}' in 0.13.0)" if name in RENAMED else ""
-    raise ValueError(f"unknown recognizer {name!r}; choose one of {RECOGNIZERS} or give "
-                     f"package.module:Class{hint}")
-
-
-@dataclass(eq=False)
-class TourRecord:
-    """What the robot observed on the guided tour, one row per step: all an agent may learn from.
-
-    Attributes:
-        place_id: (T,) int, the recognizer's place, as its map holds it after the tour (ids a
-            recognizer merged are given as the place they became); -1 unknown.
-        heard: (T,) str, the room name the guide said at that step, or "".
-        odometry: (T, 2) float32, measured forward speed (m/s) and turn rate (rad/s).
-        heading: (T, 2) float32, compass (cos, sin).
-        control_dt: seconds per step.
-    """
-
-    place_id: np.ndarray
-    heard: np.ndarray
-    odometry: np.ndarray
-    heading: np.ndarray
-    control_dt: float
-
-    def heard_names(self) -> list[str]:
-        """The room names the guide said, in the order said."""
-        return [str(h) for h in self.heard if h]
-
-    def __eq__(self, other: object) -> bool:
-        if not isinstance(other, TourRecord):
-            return NotImplemented
-        return self.control_dt == other.control_dt and all(
-            np.array_equal(getattr(self, k), getattr(other, k))
-            for k in ("place_id", "heard", "odometry", "heading"))
-
-
-@dataclass
-class Errand:
-    """One errand's outcome: ``success``, ``steps``, ``path`` driven and ``shortest`` walking
-    distance (m) from its start to the goal room, and ``spl`` (Anderson et al. 2018)."""
-
-    goal: str
-    success: bool = False
-    steps: int = 0
-    path: float = 0.0
-    shortest: float = 0.0
-    redrawn: bool = False
-
-    @property
-    def spl(self) -> float:
-        return float(self.success) * self.shortest / max(self.shortest, self.path, 1e-9)
-
-    def as_dict(self) -> dict[str, Any]:
-        return {"goal": self.goal, "success": self.success, "steps": self.steps,
-                "path": self.path, "shortest": self.shortest, "spl": self.spl,
-                "redrawn": self.redrawn}
 
 
 class GuidedTourEnv(NavTask, gym.utils.EzPickle):
@@ -190,6 +63,13 @@ class GuidedTourEnv(NavTask, gym.utils.EzPickle):
     closer than ``min_errand_distance`` is drawn again among the rooms far enough (its
     :class:`Errand` says ``redrawn``), as Habitat rejects episodes that start within the
     success distance; where no named room is far enough the first draw stands.
+
+    With ``errand_start="carried"`` the robot is instead carried to each errand's start, as if
+    kidnapped: put down at a random pose in a random room other than the goal's, at least
+    ``min_errand_distance`` of walking from it, with the recognizer told to forget where it
+    was. Its odometry then says how it moved since, not where it is: only recognizing the place
+    tells it that, as in ``PlaceNav-ReachRoom-v0``. In a building whose rooms look alike to its
+    rangefinders (``layout="corridor"``) this is the task where place ids are needed.
 
     ## Action Space
     ``PlaceNav-v0``'s: ``Box(-1, 1, (2,))``, normalised forward speed and turn rate.
@@ -218,13 +98,15 @@ class GuidedTourEnv(NavTask, gym.utils.EzPickle):
     ``errands`` (all of them).
 
     ## Arguments
-    ``recognizer`` (a name of :data:`RECOGNIZERS`, a ``package.module:Class`` of your own or a
-    recognizer object, default ``"panorama"``), ``recognizer_params`` (a path's constructor
-    arguments, see :func:`make_recognizer`), ``n_errands`` (5), ``errand_steps``
+    ``recognizer`` (a name of :data:`~envs.tasks.recognizers.RECOGNIZERS`, a
+    ``package.module:Class`` of your own or a recognizer object, default ``"panorama"``),
+    ``recognizer_params`` (a path's constructor arguments, see
+    :func:`~envs.tasks.recognizers.make_recognizer`), ``n_errands`` (5), ``errand_steps``
     (500: 50 s, half again the longest shortest route of a 6-room building at the planner's
     pace), ``tour_steps_per_room`` (150: the tour runs
     ``n_rooms`` times that, longer if a room is still unnamed, at most three times that),
-    ``name_after`` (10), ``min_errand_distance`` (1 m), ``max_places`` (64),
+    ``name_after`` (10), ``min_errand_distance`` (1 m), ``errand_start`` (``"continue"``
+    from where the last errand ended, or ``"carried"``), ``max_places`` (64),
     ``success_reward`` (10), ``step_cost`` (0.01), ``shaping`` (1 per metre),
     ``observe_image`` (False), ``render_mode``, and any argument of
     ``PlaceNav-v0`` (``scene_seed``, ``n_rooms`` (default 6 here), ``camera``: the forward
@@ -246,7 +128,8 @@ class GuidedTourEnv(NavTask, gym.utils.EzPickle):
                  min_errand_distance: float = 1.0, max_places: int = 64,
                  success_reward: float = 10.0, step_cost: float = 0.01, shaping: float = 1.0,
                  observe_image: bool = False, render_mode: str | None = None, n_rooms: int = 6,
-                 recognizer_params: Mapping[str, Any] | None = None, **world: Any) -> None:
+                 recognizer_params: Mapping[str, Any] | None = None,
+                 errand_start: str = "continue", **world: Any) -> None:
         # pickle and deepcopy rebuild the env from its arguments, as PlaceNav-v0 does
         gym.utils.EzPickle.__init__(
             self, recognizer=recognizer, recognizer_params=recognizer_params,
@@ -254,7 +137,8 @@ class GuidedTourEnv(NavTask, gym.utils.EzPickle):
             tour_steps_per_room=tour_steps_per_room, name_after=name_after,
             min_errand_distance=min_errand_distance, max_places=max_places,
             success_reward=success_reward, step_cost=step_cost, shaping=shaping,
-            observe_image=observe_image, render_mode=render_mode, n_rooms=n_rooms, **world)
+            observe_image=observe_image, render_mode=render_mode, n_rooms=n_rooms,
+            errand_start=errand_start, **world)
         if n_errands < 1 or errand_steps < 1 or tour_steps_per_room < 1 or name_after < 1:
             raise ValueError("n_errands, errand_steps, tour_steps_per_room and name_after must "
                              f"be positive, got {n_errands}, {errand_steps}, "
@@ -262,6 +146,11 @@ class GuidedTourEnv(NavTask, gym.utils.EzPickle):
         if not min_errand_distance >= 0:
             raise ValueError(f"min_errand_distance must be 0 or more metres, got "
                              f"{min_errand_distance}")
+        if errand_start not in ERRAND_STARTS:
+            raise ValueError(f"errand_start must be one of {ERRAND_STARTS}, got {errand_start!r}")
+        if errand_start == "carried" and n_rooms < 2:
+            raise ValueError("errand_start='carried' puts the robot down outside the goal room: "
+                             f"it needs at least 2 rooms, got n_rooms={n_rooms}")
         if recognizer_params and not isinstance(recognizer, str):
             raise ValueError("recognizer_params go with a package.module:Class recognizer, "
                              "not with a recognizer object")
@@ -281,6 +170,7 @@ class GuidedTourEnv(NavTask, gym.utils.EzPickle):
         self.n_errands, self.errand_steps = n_errands, errand_steps
         self.tour_steps_per_room, self.name_after = tour_steps_per_room, name_after
         self.min_errand_distance = min_errand_distance
+        self.errand_start = errand_start
         self.max_places = max_places
         self.observe_image = observe_image
         self.goal_room = GoalRoom(self.plan, success_reward, step_cost, shaping)
@@ -297,6 +187,12 @@ class GuidedTourEnv(NavTask, gym.utils.EzPickle):
         self._pose = np.zeros(3)
         self._tour_rooms = np.zeros(0, np.int64)
         self._room = 0  # the last room the robot was in (a doorway is in none)
+
+    @property
+    def tour_rooms(self) -> np.ndarray:
+        """The true room of each step of the last tour (-1 in a doorway): ground truth, for
+        scoring and for agents that are given it (the oracle), never in the observation."""
+        return self._tour_rooms
 
     @property
     def recognizer(self) -> Recognizer | None:
@@ -323,7 +219,7 @@ class GuidedTourEnv(NavTask, gym.utils.EzPickle):
         self._goals = list(goals) if goals is not None else []
         self._errands, self._over = [], False
         self._pose = info["pose"]
-        self._start_errand(info)
+        obs, info = self._start_errand(obs, info)
         return self._observation(obs, info), {
             "tour": tour, "map": self._map_scores(tour, self._tour_rooms), "named": self._named,
             **self._step_info(info)}
@@ -348,8 +244,8 @@ class GuidedTourEnv(NavTask, gym.utils.EzPickle):
                 terminated = self._over = True
                 out["errands"] = [e.as_dict() for e in self._errands]
             else:
-                self._start_errand(info)
-                out.update(errand=len(self._errands) - 1, goal=self._errands[-1].goal)
+                obs, info = self._start_errand(obs, info)
+                out.update(self._step_info(info))
         return self._observation(obs, info), reward, terminated, False, out
 
     def close(self) -> None:
@@ -397,14 +293,39 @@ class GuidedTourEnv(NavTask, gym.utils.EzPickle):
 
     # -- errands ---------------------------------------------------------------------------
 
-    def _start_errand(self, info: dict[str, Any]) -> None:
+    def _start_errand(self, obs: dict[str, Any], info: dict[str, Any]
+                      ) -> tuple[dict[str, Any], dict[str, Any]]:
+        """Draw the next errand's goal (and, if carried, its start); the observation and info
+        the errand starts from."""
         k = len(self._errands)
         room = self._last_room(info)
-        goal, redrawn = (self._goals[k], False) if k < len(self._goals) else self._draw_goal(
-            info["pose"], room)
+        carried = self.errand_start == "carried"
+        if k < len(self._goals):
+            goal, redrawn = self._goals[k], False
+        elif carried:  # any named room: the start is drawn away from it
+            goal, redrawn = self._named[int(self.np_random.integers(len(self._named)))], False
+        else:
+            goal, redrawn = self._draw_goal(info["pose"], room)
+        goal_id = self.plan.room_by_name(goal).id
+        if carried:
+            obs, info = self._carry(goal_id)
+            room, self._pose = self._last_room(info), info["pose"]
         self._errands.append(Errand(goal, redrawn=redrawn))
-        self._errands[-1].shortest = self.goal_room.start(
-            self.plan.room_by_name(goal).id, info["pose"], room=room)
+        self._errands[-1].shortest = self.goal_room.start(goal_id, info["pose"], room=room)
+        return obs, info
+
+    def _carry(self, goal: int) -> tuple[dict[str, Any], dict[str, Any]]:
+        """Put the robot down at a random pose of a random room other than ``goal``, at least
+        ``min_errand_distance`` of walking from it where a few draws find one."""
+        rooms = [r for r in self.plan.rooms if r.id != goal]
+        for _ in range(20):
+            room = rooms[int(self.np_random.integers(len(rooms)))]
+            obs, info = self.nav.reset(options={"room": room.name})
+            if self.goal_room.walk(goal, info["pose"], room.id) >= self.min_errand_distance:
+                break
+        if self._place_ids is not None:  # the recognizer sees the new start, lost
+            obs, info = self._place_ids.relocated(obs, info)
+        return obs, info
 
     def _draw_goal(self, pose: Sequence[float], room: int) -> tuple[str, bool]:
         """A named room other than ``room``; drawn again among those at least

@@ -127,6 +127,15 @@ class PlaceIdWrapper(gym.ObservationWrapper, gym.utils.RecordConstructorArgs):
         obs, reward, terminated, truncated, info = super().step(action)
         return obs, reward, terminated, truncated, {**info, **self._last}
 
+    def relocated(self, observation: dict[str, Any], info: dict[str, Any]
+                  ) -> tuple[dict[str, Any], dict[str, Any]]:
+        """``observation`` and ``info`` of a robot the task put down elsewhere mid-episode
+        (``PlaceNav-GuidedTour-v1``'s carried errands), with ``place_id``: the recognizer
+        forgets where it was, keeps its map, and answers for the new frame."""
+        forget_position(self.recognizer)
+        observation = self.observation(observation)
+        return observation, {**info, **self._last}
+
     def observation(self, observation: dict[str, Any]) -> dict[str, Any]:
         """``observation`` with ``place_id`` from one step of the recognizer."""
         start = time.perf_counter()

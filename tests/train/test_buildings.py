@@ -20,3 +20,19 @@ def test_training_buildings_come_from_the_train_split_and_change():
         assert len(seen) > 1 and seen <= {0, 1, 2}  # not one building over and over
     finally:
         env.close()
+
+
+def test_buildings_draw_their_room_counts_and_observe_tour_features():
+    with pytest.raises(ValueError, match="unknown observe 'eyes'"):
+        TrainBuildings([0], observe="eyes", **TASK)
+    task = {k: v for k, v in TASK.items() if k != "n_rooms"}
+    env = TrainBuildings([0, 1, 2], observe="noplace", n_rooms=[2, 3], **task)
+    try:
+        counts = set()
+        for seed in range(6):
+            obs, _ = env.reset(seed=seed)
+            assert obs in env.observation_space
+            counts.add(len(env._env.unwrapped.plan.rooms))
+        assert counts == {2, 3}
+    finally:
+        env.close()

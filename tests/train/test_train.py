@@ -187,3 +187,47 @@ def test_agents_train_only_on_train_split_buildings(tmp_path):
     with pytest.raises(ValueError, match="not in the 'train' split"):
         train("noplace", 0, tmp_path / "run", timesteps=64, config_path=test_world)
     assert not (tmp_path / "run").exists()
+
+
+TOUR = """
+default: &default
+  env: {kind: errands, observe: noplace, scene_seeds: [0, 1], n_rooms: [3], recognizer: oracle,
+        repeat: 2,
+        n_errands: 2, tour_steps_per_room: 40, errand_steps: 30, errand_start: carried}
+  n_envs: 1
+  n_timesteps: 128
+  policy: MlpLstmPolicy
+  algo: recurrent_ppo
+  n_steps: 64
+  batch_size: 32
+  n_epochs: 1
+noplace_lstm:
+  <<: *default
+"""
+
+
+def test_a_memory_agent_trains_on_tours_and_runs_in_the_closed_loop(tmp_path):
+    pytest.importorskip("sb3_contrib")
+    from envs.commands.closed_loop import run_scene
+
+    config = tmp_path / "tour.yml"
+    config.write_text(TOUR)
+    policy = train("noplace_lstm", seed=0, out=tmp_path / "run", progress=False,
+                   config_path=config)
+    info = json.loads((tmp_path / "run" / "train_info.json").read_text())
+    assert info["algo"] == "recurrent_ppo" and info["timesteps"] == 128
+    from envs.agents.learned import LearnedAgent
+
+    agent = LearnedAgent.load(policy)
+    assert (agent.observe, agent.recurrent, agent.repeat) == ("noplace", True, 2)
+    row = run_scene(2000, n_rooms=3, recognizer="oracle", agent="ppo", goals=2,
+                    policy=policy, tour_steps_per_room=40, errand_steps=30,
+                    errand_start="carried")
+    assert len(row["errands"]) == 2 and 0.0 <= row["success_rate"] <= 1.0
+
+
+def test_a_config_with_an_unknown_learner_is_refused(tmp_path):
+    config = tmp_path / "tour.yml"
+    config.write_text(TOUR.replace("recurrent_ppo", "dqn"))
+    with pytest.raises(ValueError, match="unknown algo 'dqn'"):
+        train("noplace_lstm", out=tmp_path / "run", progress=False, config_path=config)

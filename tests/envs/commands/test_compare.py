@@ -36,7 +36,8 @@ def results(tmp_path):
 def test_compare_prints_the_paired_table_and_the_verdict(results, capsys):
     assert compare.main([str(results), str(results), "--a", "good", "--b", "poor"]) == 0
     out = capsys.readouterr().out
-    assert "| success_rate | 1.000 | 0.250 | 0.750 [0.750, 0.750] | 0.88 [0.88, 0.88] |" in out
+    assert ("| success_rate | 1.000 [1.000, 1.000] | 0.250 [0.250, 0.250] | 0.750 [0.750, 0.750] "
+            "| 0.88 [0.88, 0.88] |") in out
     assert "good succeeds more often than poor" in out and "FLAG" not in out
     assert "read it as a pilot" in out  # 4 buildings: too few to decide on
     docs = results.parent / "benchmarks.md"
@@ -45,7 +46,7 @@ def test_compare_prints_the_paired_table_and_the_verdict(results, capsys):
     assert "Paired on 4 buildings (scene seeds 0–3)" in docs.read_text()
     compare.main([str(results), str(results), "--a", "good", "--b", "poor", "--docs", str(docs),
                   "--section", "compare-full"])
-    assert docs.read_text().count("| success_rate | 1.000 | 0.250 |") == 2  # a second section
+    assert docs.read_text().count("| success_rate | 1.000 [1.000, 1.000] | 0.250") == 2
 
 
 def test_compare_says_when_the_sample_cannot_decide(results, capsys):
@@ -97,6 +98,20 @@ def test_one_recognizer_under_two_agents_is_compared_by_agent(results, tmp_path,
     assert compare.main([str(results), str(path), "--a", "good", "--b", "good"]) == 0
     out = capsys.readouterr().out
     assert "A: good (planner)" in out and "B: good (ppo)" in out and "FLAG" not in out
+
+
+def test_two_policies_of_one_agent_are_compared_by_their_run_folders(results, tmp_path,
+                                                                       capsys):
+    a, b = copy.deepcopy(load_results(results)), copy.deepcopy(load_results(results))
+    for doc, run in ((a, "carried_place"), (b, "carried_oracle")):
+        doc["settings"].update(agent="ppo", policy=f"runs/train/{run}/policy.zip")
+    paths = [tmp_path / "a.json", tmp_path / "b.json"]
+    for doc, path in zip((a, b), paths, strict=True):
+        path.write_text(json.dumps(doc))
+    assert compare.main([*map(str, paths), "--a", "good", "--b", "good"]) == 0
+    out = capsys.readouterr().out
+    assert "A: good (carried_place)" in out and "B: good (carried_oracle)" in out
+    assert "FLAG" not in out
 
 
 def test_one_recognizer_after_short_and_long_tours_is_compared_by_size(results, tmp_path,

@@ -113,3 +113,24 @@ def test_a_job_file_names_what_changes_it_and_hashes_the_rest():
     other = {**own, "recognizer_params": {"threshold": 0.9}}
     assert closed_loop.job_key(own) != closed_loop.job_key(other)
     assert ":" not in closed_loop.job_key(own)
+
+
+def test_errands_can_start_carried_in_a_corridor_and_say_so(tmp_path):
+    out = tmp_path / "carried.json"
+    code = closed_loop.main(["--scene-seeds", "0", "--rooms", "3", "--recognizer", "oracle",
+                             "--goals-per-scene", "2", "--tour-steps-per-room", "40",
+                             "--errand-start", "carried", "--layout", "corridor",
+                             "--json", str(out)])
+    assert code == 0
+    doc = json.loads(out.read_text())
+    assert doc["settings"]["task"] == {"tour_steps_per_room": 40, "errand_start": "carried",
+                                       "layout": "corridor"}
+    assert all(e["shortest"] >= 1.0 for e in doc["buildings"][0]["errands"])
+
+
+def test_two_policies_keep_two_job_files():
+    job = {"scene_seed": 2000, "n_rooms": 6, "recognizer": "panorama-orb", "agent": "ppo",
+           "goals": 5, "seed": 0}
+    a = closed_loop.job_key({**job, "policy": "runs/train/carried_place/policy.zip"})
+    b = closed_loop.job_key({**job, "policy": "runs/train/carried_oracle/policy.zip"})
+    assert a != b and "carried_place" in a

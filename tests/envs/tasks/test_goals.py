@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 
 from envs.tasks.goals import GoalRoom
-from envs.tasks.guided_tour import check_recognizer_name, make_recognizer
+from envs.tasks.recognizers import check_recognizer_name, make_recognizer
 from envs.world.layout import generate_floor_plan
 
 

@@ -120,3 +120,28 @@ def test_a_recognizer_that_reads_no_images_gets_none_rendered_and_the_same_ids(m
     assert image not in blind.unwrapped.nav.observation_space.spaces
     assert image in seeing.unwrapped.nav.observation_space.spaces
     assert np.array_equal(ids, seen_ids) and errands == seen_errands
+
+
+def test_a_carried_robot_starts_each_errand_away_from_its_goal(make_tour):
+    env = make_tour(recognizer="panorama-orb", errand_start="carried", n_errands=3,
+                    errand_steps=5, panorama_width=128, panorama_height=32)
+    obs, info = env.reset(seed=4)
+    plan = env.unwrapped.plan
+    starts, done = [(info["pose"], info["goal"])], False
+    while not done:
+        obs, _, done, _, info = env.step(np.zeros(2, np.float32))
+        if "errand_result" in info and not done:
+            starts.append((info["pose"], info["goal"]))
+            assert obs in env.observation_space
+    assert len(starts) == 3
+    for pose, goal in starts:
+        assert plan.room_at(pose[0], pose[1]) != plan.room_by_name(goal).id
+    assert all(e["shortest"] >= 1.0 for e in info["errands"])
+    assert len({tuple(np.round(p[:2], 3)) for p, _ in starts}) == 3  # put down, not driven
+
+
+def test_carrying_needs_two_rooms_and_a_known_start():
+    with pytest.raises(ValueError, match="errand_start must be one of"):
+        GuidedTourEnv(recognizer="oracle", n_rooms=3, errand_start="teleport")
+    with pytest.raises(ValueError, match="at least 2 rooms"):
+        GuidedTourEnv(recognizer="oracle", n_rooms=1, errand_start="carried")

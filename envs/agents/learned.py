@@ -1,0 +1,105 @@
+"""A trained errand policy as an agent of the closed loop: what it observes, how it acts.
+
+``python -m train.train`` writes ``config.yml`` beside every ``policy.zip``. Its ``env.observe``
+says what the policy was trained to see: ``hints`` (the residual agent of
+:mod:`envs.agents.hints`, also the default for a policy without one) or one of
+:data:`~envs.agents.tour_features.SENSES` (an agent on its own, :mod:`envs.agents.tour_features`);
+its ``env.repeat`` how many steps each action is held for; its ``algo`` whether the policy has
+a memory (``recurrent_ppo``, sb3-contrib's RecurrentPPO), whose state is carried from step to
+step and cleared at each episode's start.
+
+Examples:
+    >>> from envs.agents.learned import LearnedAgent
+    >>> from envs.world.textures import ASSETS
+    >>> LearnedAgent.load(ASSETS / "policies" / "errands" / "ppo_errands.zip").observe
+    'hints'
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+import gymnasium as gym
+import numpy as np
+
+from .hints import PlannerHints
+from .tour_features import SENSES, TourFeatures
+
+#: what a policy may have been trained to observe
+OBSERVE = ("hints", *SENSES)
+
+
+@dataclass
+class LearnedAgent:
+    """A loaded policy with the observation it was trained on.
+
+    Attributes:
+        model: the stable-baselines3 (or sb3-contrib) model.
+        observe: one of :data:`OBSERVE`.
+        recurrent: whether the policy carries a memory between steps.
+        repeat: env steps each of its actions is held for, as in training.
+    """
+
+    model: Any
+    observe: str = "hints"
+    recurrent: bool = False
+    repeat: int = 1
+
+    @classmethod
+    def load(cls, policy: str | Path) -> LearnedAgent:
+        """The policy file ``policy`` and what its ``config.yml`` says (none: a hints agent).
+
+        Raises:
+            FileNotFoundError: no such policy file.
+            ValueError: a config whose ``observe`` or ``algo`` is unknown.
+        """
+        policy = Path(policy)
+        if not policy.is_file():
+            raise FileNotFoundError(f"no policy file {policy}; train one with python -m "
+                                    "train.train (see train/hyperparams/)")
+        config = _config(policy.parent / "config.yml")
+        env = config.get("env", {})
+        observe, repeat = env.get("observe", "hints"), int(env.get("repeat", 1))
+        algo = config.get("algo", "ppo")
+        if observe not in OBSERVE:
+            raise ValueError(f"{policy}'s config observes {observe!r}; known: {OBSERVE}")
+        if algo == "recurrent_ppo":
+            from sb3_contrib import RecurrentPPO
+
+            return cls(RecurrentPPO.load(policy, device="cpu"), observe, True, repeat)
+        if algo != "ppo":
+            raise ValueError(f"{policy}'s config names algo {algo!r}; known: ppo, recurrent_ppo")
+        from stable_baselines3 import PPO
+
+        return cls(PPO.load(policy, device="cpu"), observe, False, repeat)
+
+    def wrap(self, env: gym.Env, seed: int = 0) -> gym.Env:
+        """``env`` (``PlaceNav-GuidedTour-v1``) seen as the policy was trained to see it."""
+        if self.observe == "hints":
+            return PlannerHints(env, seed)
+        return TourFeatures(env, self.observe, self.repeat)
+
+    def actor(self) -> Callable[[np.ndarray], np.ndarray]:
+        """A function from one observation of a fresh episode on to the action: the policy's
+        mean action, with its memory carried between calls if it has one."""
+        if not self.recurrent:
+            return lambda obs: self.model.predict(obs, deterministic=True)[0]
+        memory: dict[str, Any] = {"state": None, "start": np.ones(1, bool)}
+
+        def act(obs: np.ndarray) -> np.ndarray:
+            action, memory["state"] = self.model.predict(
+                obs, state=memory["state"], episode_start=memory["start"], deterministic=True)
+            memory["start"] = np.zeros(1, bool)
+            return action
+        return act
+
+
+def _config(path: Path) -> dict[str, Any]:
+    if not path.is_file():
+        return {}
+    import yaml  # the train extra, as the policies' learners are
+
+    return yaml.safe_load(path.read_text()) or {}

@@ -1,0 +1,97 @@
+"""The closed loop's recognizers by name, and a recognizer of your own by ``package.module:Class``.
+
+``PlaceNav-GuidedTour-v1``, ``placeclust errands`` and ``placeclust leaderboard`` take a name of
+:data:`RECOGNIZERS` or a path, and build each building's recognizer with :func:`make_recognizer`.
+
+Examples:
+    >>> from envs.tasks.recognizers import make_recognizer
+    >>> make_recognizer("panorama-orb", n_rooms=6).n_places
+    0
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+from typing import Any
+
+from placeclust import PANORAMA, PANORAMA_ORB, OnlinePlaceClustering
+from placeclust.nested import NestedMapper
+from placeclust.null import NoPlaces, RandomPlaces
+from placeclust.protocol import is_offline
+from placeclust.runner import check_params, make, recognizer_class
+
+from .place_id import Recognizer
+
+#: recognizers by name: ``oracle`` gives the true room (the upper bound); ``panorama`` is seed
+#: 000's online recognizer in its 360° configuration with SIFT (the preset ``panorama``,
+#: :data:`placeclust.PANORAMA`), ``panorama-orb`` in ORB's (the preset ``panorama-orb``,
+#: :data:`placeclust.PANORAMA_ORB`, with ORB); ``nested`` seed 001 on the forward camera;
+#: ``random`` ids that mean nothing; ``none`` no ids at all. ``online`` is the paper's defaults
+#: everywhere in placeclust (``placeclust bench --algos online``), so it is not a name here.
+RECOGNIZERS = ("oracle", "panorama", "panorama-orb", "nested", "random", "none")
+#: the names these recognizers had before placeclust 0.13.0, for the error that says so
+RENAMED = {"online": "panorama", "online-orb": "panorama-orb"}
+
+
+def make_recognizer(name: str, n_rooms: int, max_places: int = 64,
+                    params: Mapping[str, Any] | None = None) -> Recognizer | None:
+    """A fresh recognizer for the closed loop (``None`` for ``oracle``, the true rooms).
+
+    Args:
+        name: one of :data:`RECOGNIZERS`, or ``package.module:Class``, an online recognizer of
+            your own (``learn_predict_one``, ``n_places``, ``graph``; see
+            :mod:`placeclust.checks`), loaded as ``placeclust cluster --algo`` loads it.
+        n_rooms: the building's rooms (``random`` draws ids from twice as many).
+        max_places: the cap of ``panorama`` and ``panorama-orb``'s maps.
+        params: a module path's constructor arguments (``features`` included). A name is one
+            configuration, so it takes none: for another, name the class with the arguments,
+            e.g. ``placeclust.online:OnlinePlaceClustering`` with ``PANORAMA``'s and yours.
+
+    Raises:
+        ValueError: an unknown name, a path that does not load or is not an online recognizer,
+            or parameters with a name.
+    """
+    params = dict(params or {})
+    if ":" in name:
+        return _own_recognizer(name, params)
+    check_recognizer_name(name)
+    if params:
+        raise ValueError(f"{name!r} is one configuration and takes no parameters, got "
+                         f"{sorted(params)}; give package.module:Class with them instead")
+    if name == "oracle":
+        return None
+    if name == "panorama":
+        return OnlinePlaceClustering("sift", **PANORAMA, max_places=max_places)
+    if name == "panorama-orb":
+        return OnlinePlaceClustering("orb", **PANORAMA_ORB, max_places=max_places)
+    if name == "nested":
+        return NestedMapper()
+    if name == "random":
+        return RandomPlaces(n_ids=2 * n_rooms)
+    return NoPlaces()
+
+
+def _own_recognizer(path: str, params: dict[str, Any]) -> Recognizer:
+    cls = recognizer_class(path)  # a ValueError that names a path or class that does not load
+    if is_offline(cls):
+        raise ValueError(f"{path} is an offline recognizer (fit_predict); the closed loop "
+                         "needs an online one (learn_predict_one)")
+    check_params(path, [k for k in params if k != "features"])
+    model = make(path, **params)
+    if not isinstance(model, Recognizer):
+        raise ValueError(f"{path} lacks what the closed loop reads of a recognizer: "
+                         "learn_predict_one, predict_one, n_places and graph")
+    return model
+
+
+def check_recognizer_name(name: str) -> None:
+    """A ``ValueError`` naming the choices if ``name`` is neither one of :data:`RECOGNIZERS` nor
+    a ``package.module:Class`` that loads."""
+    if name in RECOGNIZERS:
+        return
+    if ":" in name:
+        recognizer_class(name)
+        return
+    hint = f" ('{name}' was renamed '{RENAMED[name]}' in 0.13.0)" if name in RENAMED else ""
+    raise ValueError(f"unknown recognizer {name!r}; choose one of {RECOGNIZERS} or give "
+                     f"package.module:Class{hint}")

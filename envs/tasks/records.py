@@ -1,0 +1,62 @@
+"""What a ``PlaceNav-GuidedTour-v1`` episode records: the guided tour the robot observed
+(:class:`TourRecord`, all an agent may learn from) and each errand's outcome (:class:`Errand`)."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+
+
+@dataclass(eq=False)
+class TourRecord:
+    """What the robot observed on the guided tour, one row per step: all an agent may learn from.
+
+    Attributes:
+        place_id: (T,) int, the recognizer's place, as its map holds it after the tour (ids a
+            recognizer merged are given as the place they became); -1 unknown.
+        heard: (T,) str, the room name the guide said at that step, or "".
+        odometry: (T, 2) float32, measured forward speed (m/s) and turn rate (rad/s).
+        heading: (T, 2) float32, compass (cos, sin).
+        control_dt: seconds per step.
+    """
+
+    place_id: np.ndarray
+    heard: np.ndarray
+    odometry: np.ndarray
+    heading: np.ndarray
+    control_dt: float
+
+    def heard_names(self) -> list[str]:
+        """The room names the guide said, in the order said."""
+        return [str(h) for h in self.heard if h]
+
+    def __eq__(self, other: object) -> bool:
+        if not isinstance(other, TourRecord):
+            return NotImplemented
+        return self.control_dt == other.control_dt and all(
+            np.array_equal(getattr(self, k), getattr(other, k))
+            for k in ("place_id", "heard", "odometry", "heading"))
+
+
+@dataclass
+class Errand:
+    """One errand's outcome: ``success``, ``steps``, ``path`` driven and ``shortest`` walking
+    distance (m) from its start to the goal room, and ``spl`` (Anderson et al. 2018)."""
+
+    goal: str
+    success: bool = False
+    steps: int = 0
+    path: float = 0.0
+    shortest: float = 0.0
+    redrawn: bool = False
+
+    @property
+    def spl(self) -> float:
+        return float(self.success) * self.shortest / max(self.shortest, self.path, 1e-9)
+
+    def as_dict(self) -> dict[str, Any]:
+        return {"goal": self.goal, "success": self.success, "steps": self.steps,
+                "path": self.path, "shortest": self.shortest, "spl": self.spl,
+                "redrawn": self.redrawn}
