@@ -210,6 +210,7 @@ class TourFeatures(gym.Wrapper):
         self._trackers: dict[str, Anchored] = {}
         self._position: np.ndarray | None = None
         self._heading = np.array([1.0, 0.0])
+        self._dt = 0.1  # the tour's seconds per step, read at reset
         self._errand = 0
         self._room = -1
 

@@ -119,7 +119,8 @@ class GuidedTourEnv(NavTask, gym.utils.EzPickle):
     - v1 (placeclust 0.13.0): errands start at least ``min_errand_distance`` (1 m) of
       walking from their goal room. The recognizers ``online`` and ``online-orb`` are named
       ``panorama`` and ``panorama-orb``, after their presets; ``recognizer`` also takes a
-      ``package.module:Class`` with ``recognizer_params``.
+      ``package.module:Class`` with ``recognizer_params``; ``errand_start="carried"`` puts
+      the robot down at each errand's start (the default continues as before).
     - v0: first version; still registered, as v1 with ``min_errand_distance=0``.
     """
 
