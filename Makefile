@@ -120,16 +120,18 @@ train-errands: $(VENV)/.installed
 		--out runs/train/errands_s0
 
 # errand agents on their own in buildings never seen (envs/agents/tour_features.py), carried to
-# each errand's start: each trains on train buildings in about 5 minutes on 2 cores
-TOUR_AGENTS := noplace place oracle
+# each errand's start: each trains on train buildings in 5 (PPO) to 13 (LSTM) minutes on 2 cores
+TOUR_AGENTS := noplace place oracle noplace_lstm place_lstm
 train-tour: $(VENV)/.installed
 	for a in $(TOUR_AGENTS); do \
 		$(PY) -m train.train --agent $$a --config train/hyperparams/ppo_tour_carried.yml \
 			--out runs/train/carried_$$a --no-progress || exit 1; done
 
 # and scores them on test buildings, paired, beside the planner on the same maps (~35 minutes):
-# the shipped policies, or yours after make train-tour with TOUR_POLICIES=runs/train
+# the shipped policies, or yours after make train-tour with TOUR_POLICIES=runs/train; the
+# memory baselines are not shipped (8 MB each): make train-tour first
 TOUR_POLICIES ?= assets/policies/tour
+LSTM_POLICIES ?= runs/train
 AGENT_ERRANDS := --split test --n-scenes 20 --rooms 6 --goals-per-scene 5 --workers 2 \
 	--errand-start carried --out runs/agents/carried
 agents-tour: $(VENV)/.installed
@@ -142,6 +144,12 @@ agents-tour: $(VENV)/.installed
 		--policy $(TOUR_POLICIES)/carried_place/policy.zip --json runs/agents/carried-place-true.json
 	$(VENV)/bin/placeclust errands $(AGENT_ERRANDS) --recognizer panorama-orb --agent planner \
 		--json runs/agents/carried-planner.json
+	$(VENV)/bin/placeclust errands $(AGENT_ERRANDS) --recognizer none --agent ppo \
+		--policy $(LSTM_POLICIES)/carried_noplace_lstm/policy.zip \
+		--json runs/agents/carried-noplace_lstm.json
+	$(VENV)/bin/placeclust errands $(AGENT_ERRANDS) --recognizer oracle --agent ppo \
+		--policy $(LSTM_POLICIES)/carried_place_lstm/policy.zip \
+		--json runs/agents/carried-place_lstm-true.json
 	$(VENV)/bin/placeclust compare runs/agents/carried-place.json \
 		runs/agents/carried-noplace.json $(DOCS) --section agents-carried-place-noplace
 	$(VENV)/bin/placeclust compare runs/agents/carried-oracle.json \
@@ -150,6 +158,10 @@ agents-tour: $(VENV)/.installed
 		runs/agents/carried-place.json $(DOCS) --section agents-carried-place-recognition
 	$(VENV)/bin/placeclust compare runs/agents/carried-place.json \
 		runs/agents/carried-planner.json $(DOCS) --section agents-carried-place-planner
+	$(VENV)/bin/placeclust compare runs/agents/carried-noplace_lstm.json \
+		runs/agents/carried-noplace.json $(DOCS) --section agents-carried-memory-noplace
+	$(VENV)/bin/placeclust compare runs/agents/carried-place_lstm-true.json \
+		runs/agents/carried-place-true.json $(DOCS) --section agents-carried-memory-place
 
 clean:
 	rm -rf $(VENV) runs .pytest_cache .ruff_cache
