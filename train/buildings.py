@@ -9,12 +9,8 @@ import gymnasium as gym
 import numpy as np
 
 import envs  # noqa: F401  (registers the environments)
-from envs.agents.hints import PlannerHints
-from envs.agents.tour_features import SENSES, TourFeatures
+from envs.agents.learned import OBSERVE, observed
 from envs.world.splits import check_split
-
-#: what the agent observes: the planner's hints (a residual agent) or one of the tour features
-OBSERVE = ("hints", *SENSES)
 
 
 class TrainBuildings(gym.Env):
@@ -53,9 +49,7 @@ class TrainBuildings(gym.Env):
         self.scene_seed = scene_seed  # the building of the current episode
         env = gym.make("PlaceNav-GuidedTour-v1", scene_seed=scene_seed, n_rooms=n_rooms,
                        **self.task)
-        if self.observe == "hints":
-            return PlannerHints(env)
-        return TourFeatures(env, self.observe, self.repeat)
+        return observed(env, self.observe, self.repeat)
 
     def reset(self, *, seed: int | None = None, options: dict[str, Any] | None = None
               ) -> tuple[np.ndarray, dict[str, Any]]:

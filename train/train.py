@@ -24,6 +24,7 @@ from typing import Any
 
 import yaml
 
+from envs.agents.learned import ALGOS, learner
 from envs.tasks.vector import single_threaded_workers
 from envs.world.splits import check_split
 from train.config import HYPERPARAMS, load_config
@@ -31,8 +32,6 @@ from train.make import AGENTS, make_env
 from train.mapping import EDGES_FILE, MAP_FILE, build_map
 
 TRAINABLE = tuple(a for a in AGENTS if a != "planner")
-#: the learners a config's ``algo`` names: PPO, or sb3-contrib's PPO with an LSTM (memory)
-ALGOS = ("ppo", "recurrent_ppo")
 #: ``env`` keys of a config that change the world a map is made in (its ``world_id``)
 MAP_WORLD_KEYS = ("layout", "extra_doors", "panorama_width", "panorama_height", "n_cameras")
 
@@ -78,6 +77,7 @@ def train(agent: str, seed: int = 0, out: Path | None = None, timesteps: int | N
     algo = cfg.pop("algo", "ppo")
     if algo not in ALGOS:
         raise ValueError(f"unknown algo {algo!r} in {config_path}; choose one of {ALGOS}")
+    model_class = learner(algo)  # a missing sb3-contrib is said before any map is built
     # agents train on train-split buildings only: val chooses, test reports (envs.world.splits)
     check_split("train", env_cfg.get("scene_seeds", [env_cfg.get("scene_seed", 0)]))
     map_cfg = dict(cfg.pop("map", {}))
@@ -94,7 +94,6 @@ def train(agent: str, seed: int = 0, out: Path | None = None, timesteps: int | N
         {"agent": agent, "seed": seed, "n_envs": n_envs, "n_timesteps": timesteps,
          "algo": algo, "policy": policy, "env": {"kind": kind, **env_cfg},
          **_map_record(map_path, map_dir, map_cfg), **cfg}))
-    learner = _learner(algo)
     with _one_thread_each(n_envs > 1):
         # spawned workers: a worker forked from a process that has rendered deadlocks in
         # Mesa's EGL
@@ -103,7 +102,7 @@ def train(agent: str, seed: int = 0, out: Path | None = None, timesteps: int | N
                             vec_env_cls=SubprocVecEnv if n_envs > 1 else DummyVecEnv,
                             vec_env_kwargs={"start_method": "spawn"} if n_envs > 1 else None,
                             monitor_kwargs={"info_keywords": ("is_success",)})
-        model = learner(policy, venv, seed=seed, device="cpu", verbose=0, **cfg)
+        model = model_class(policy, venv, seed=seed, device="cpu", verbose=0, **cfg)
         model.set_logger(configure(str(out), ["csv", "stdout"] if progress else ["csv"]))
         checkpoints = CheckpointCallback(max(timesteps // 10 // n_envs, 1),
                                          str(out / "checkpoints"), name_prefix="ppo")
@@ -117,20 +116,6 @@ def train(agent: str, seed: int = 0, out: Path | None = None, timesteps: int | N
         {"agent": agent, "algo": algo, "seed": seed, "timesteps": timesteps, "n_envs": n_envs,
          "minutes": round(minutes, 2), "versions": _versions()}, indent=2))
     return out / "policy.zip"
-
-
-def _learner(algo: str) -> Any:
-    """The stable-baselines3 class for ``algo`` (one of :data:`ALGOS`)."""
-    if algo == "recurrent_ppo":
-        try:
-            from sb3_contrib import RecurrentPPO
-        except ImportError as exc:  # an install without the train extra
-            raise ValueError("algo: recurrent_ppo needs sb3-contrib: pip install "
-                             "'placeclust[train]'") from exc
-        return RecurrentPPO
-    from stable_baselines3 import PPO
-
-    return PPO
 
 
 def _map_record(map_path: Path | None, given: Path | None, map_cfg: dict[str, Any]

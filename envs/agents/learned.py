@@ -30,6 +30,39 @@ from .tour_features import SENSES, TourFeatures
 
 #: what a policy may have been trained to observe
 OBSERVE = ("hints", *SENSES)
+#: the learners a config's ``algo`` names: PPO, or sb3-contrib's PPO with an LSTM (memory)
+ALGOS = ("ppo", "recurrent_ppo")
+
+
+def observed(env: gym.Env, observe: str, repeat: int = 1, seed: int = 0) -> gym.Env:
+    """``env`` (``PlaceNav-GuidedTour-v1``) as an agent that observes ``observe`` (one of
+    :data:`OBSERVE`) sees it: the planner's hints, or the tour features with each action held
+    ``repeat`` steps. Training and the closed loop both wrap through here."""
+    if observe not in OBSERVE:
+        raise ValueError(f"unknown observe {observe!r}; choose one of {OBSERVE}")
+    if observe == "hints":
+        return PlannerHints(env, seed)
+    return TourFeatures(env, observe, repeat)
+
+
+def learner(algo: str) -> Any:
+    """The stable-baselines3 (or sb3-contrib) class for ``algo``, one of :data:`ALGOS`.
+
+    Raises:
+        ValueError: an unknown ``algo``, or ``recurrent_ppo`` without sb3-contrib installed.
+    """
+    if algo not in ALGOS:
+        raise ValueError(f"unknown algo {algo!r}; choose one of {ALGOS}")
+    if algo == "recurrent_ppo":
+        try:
+            from sb3_contrib import RecurrentPPO
+        except ImportError as exc:  # an install without the train extra
+            raise ValueError("algo: recurrent_ppo needs sb3-contrib: pip install "
+                             "'placeclust[train]'") from exc
+        return RecurrentPPO
+    from stable_baselines3 import PPO
+
+    return PPO
 
 
 @dataclass
@@ -66,21 +99,14 @@ class LearnedAgent:
         algo = config.get("algo", "ppo")
         if observe not in OBSERVE:
             raise ValueError(f"{policy}'s config observes {observe!r}; known: {OBSERVE}")
-        if algo == "recurrent_ppo":
-            from sb3_contrib import RecurrentPPO
-
-            return cls(RecurrentPPO.load(policy, device="cpu"), observe, True, repeat)
-        if algo != "ppo":
-            raise ValueError(f"{policy}'s config names algo {algo!r}; known: ppo, recurrent_ppo")
-        from stable_baselines3 import PPO
-
-        return cls(PPO.load(policy, device="cpu"), observe, False, repeat)
+        if algo not in ALGOS:
+            raise ValueError(f"{policy}'s config names algo {algo!r}; known: {ALGOS}")
+        model = learner(algo).load(policy, device="cpu")
+        return cls(model, observe, algo == "recurrent_ppo", repeat)
 
     def wrap(self, env: gym.Env, seed: int = 0) -> gym.Env:
         """``env`` (``PlaceNav-GuidedTour-v1``) seen as the policy was trained to see it."""
-        if self.observe == "hints":
-            return PlannerHints(env, seed)
-        return TourFeatures(env, self.observe, self.repeat)
+        return observed(env, self.observe, self.repeat, seed)
 
     def actor(self) -> Callable[[np.ndarray], np.ndarray]:
         """A function from one observation of a fresh episode on to the action: the policy's

@@ -248,8 +248,9 @@ class TourFeatures(gym.Wrapper):
                   ) -> tuple[np.ndarray, float, bool, bool, dict[str, Any]]:
         obs, reward, terminated, truncated, info = self.env.step(action)
         heading = np.asarray(obs["heading"], float)
-        mid = math.atan2(*(self._heading + heading)[::-1])  # the mean heading of the step
-        moved = self._dt * float(obs["odometry"][0]) * np.array([math.cos(mid), math.sin(mid)])
+        # this step's displacement, integrated as the tour's path was
+        moved = dead_reckon(np.stack([np.zeros(2), obs["odometry"]]),
+                            np.stack([self._heading, heading]), self._dt)[1]
         self._heading = heading
         if info["errand"] != self._errand:
             self._errand = info["errand"]

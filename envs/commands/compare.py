@@ -208,6 +208,5 @@ def _labels(a: dict[str, Any], b: dict[str, Any], name_a: str, name_b: str
     return name_a, name_b
 
 
-
 if __name__ == "__main__":
     sys.exit(main())
