@@ -7,7 +7,8 @@ PIP := $(PY) -m pip
 export MUJOCO_GL ?= egl
 
 .PHONY: demo test benchmarks bench bench-quick bench-long bench-env bench-latency train eval \
-	leaderboard train-errands train-tour agents-tour seed001 clean
+	leaderboard train-errands train-tour train-reachroom agents-tour agents-suite seed001 \
+	clean
 
 $(VENV)/.installed: pyproject.toml
 	$(PYTHON) -m venv $(VENV)
@@ -25,7 +26,7 @@ test: $(VENV)/.installed
 	$(PY) -m pytest -q
 
 # Regenerates every table of docs/benchmarks.md, one command after the other (never two timings
-# at once): about 3.5 hours on a 2-core machine, the full closed-loop suite 106 minutes of it.
+# at once): about 5 hours on a 2-core machine, the full closed-loop suite 106 minutes of it.
 DOCS := --docs docs/benchmarks.md
 PANORAMA_TOURS := --algos online --features sift --conditions day --scenes 0 1 2 3 --rooms 4 8 \
 	--tour-seeds 0 1 --steps-per-room 150 --latency-sizes
@@ -62,11 +63,7 @@ benchmarks: $(VENV)/.installed
 		--param kernel_capacity=600 --param scene_change=0.12 --param scale=0.75 \
 		--param consolidate=0.85 --param t_new_cluster=0.94 --section latency-panorama-orb $(DOCS)
 	$(VENV)/bin/placeclust speed $(DOCS)
-	$(PY) -m train.evaluate --agent all --episodes 50 --seed 1000 $(DOCS)
-	$(PY) -m train.evaluate --agent all --episodes 50 --seed 1000 $(DOCS) \
-		--config train/hyperparams/ppo_proximity.yml --policies assets/policies/proximity
-	$(PY) -m train.evaluate --agent all --episodes 50 --seed 1000 $(DOCS) \
-		--config train/hyperparams/ppo_corridor.yml --policies assets/policies/corridor
+	$(MAKE) agents-tour
 	$(VENV)/bin/placeclust leaderboard --split val --n-scenes 8 --goals-per-scene 5 \
 		--recognizers oracle panorama panorama-orb random --out runs/pilot-val $(DOCS)
 	$(VENV)/bin/placeclust leaderboard --suite placenav-v1 --size quick --out runs/quick $(DOCS)
@@ -80,6 +77,7 @@ benchmarks: $(VENV)/.installed
 	$(VENV)/bin/placeclust leaderboard --suite placenav-v1 --size long --out runs/long $(DOCS)
 	for r in panorama panorama-orb; do $(VENV)/bin/placeclust compare runs/long/results.json \
 		runs/quick/results.json --a $$r --b $$r --force $(DOCS) --section compare-long-quick-$$r; done
+	$(MAKE) agents-suite
 
 # the benchmark matrix (envs/commands/bench.py): results.csv, results.md, precision.png, latency.png
 bench-quick: $(VENV)/.installed
@@ -98,8 +96,17 @@ bench-env: $(VENV)/.installed
 bench-latency: $(VENV)/.installed
 	$(VENV)/bin/placeclust latency
 
-# reproduces assets/policies/ppo_place.zip (the other agents: --agent noplace / oracle)
-train: $(VENV)/.installed
+# reproduces the shipped errand agents, assets/policies/tour/*: trained on train buildings,
+# chosen on val (make train-tour), copied with their config, budget and val choice
+SHIPPED_TOUR := carried_noplace carried_place carried_oracle continued_place
+train: train-tour
+	for a in $(SHIPPED_TOUR); do mkdir -p assets/policies/tour/$$a && \
+		for f in best_model.zip config.yml train_info.json choice.json; do \
+			cp runs/train/$$a/$$f assets/policies/tour/$$a/ || exit 1; done; done
+
+# the single-building PlaceNav-ReachRoom-v0 tutorial: assets/policies/ppo_place.zip (the other
+# agents: --agent noplace / oracle) and their table
+train-reachroom: $(VENV)/.installed
 	$(PY) -m train.train --agent place --seed 0 --map assets/policies
 
 eval: $(VENV)/.installed
@@ -120,48 +127,61 @@ train-errands: $(VENV)/.installed
 		--out runs/train/errands_s0
 
 # errand agents on their own in buildings never seen (envs/agents/tour_features.py), carried to
-# each errand's start: each trains on train buildings in 5 (PPO) to 13 (LSTM) minutes on 2 cores
+# each errand's start: each trains on grid and corridor train buildings in 6 (PPO) to 15 (LSTM)
+# minutes on 2 cores, then its policy is chosen among its checkpoints on val (best_model.zip);
+# and the place agent for errands continued from the tour (grid buildings)
 TOUR_AGENTS := noplace place oracle noplace_lstm place_lstm
 train-tour: $(VENV)/.installed
 	for a in $(TOUR_AGENTS); do \
 		$(PY) -m train.train --agent $$a --config train/hyperparams/ppo_tour_carried.yml \
-			--out runs/train/carried_$$a --no-progress || exit 1; done
+			--out runs/train/carried_$$a --no-progress && \
+		$(PY) -m train.choose runs/train/carried_$$a --workers 2 --no-progress || exit 1; done
+	$(PY) -m train.train --agent place --config train/hyperparams/ppo_tour.yml \
+		--out runs/train/continued_place --no-progress
+	$(PY) -m train.choose runs/train/continued_place --workers 2 --no-progress
 
-# and scores them on test buildings, paired, beside the planner on the same maps (~35 minutes):
-# the shipped policies, or yours after make train-tour with TOUR_POLICIES=runs/train; the
-# memory baselines are not shipped (8 MB each): make train-tour first
+# and scores them on 20 test buildings of each layout, paired (~40 minutes): the shipped
+# policies, or yours after make train-tour with TOUR_POLICIES=runs/train; the memory baselines
+# are not shipped (8 MB each): make train-tour first. NAME:RECOGNIZER:POLICY; oracle and
+# place_true see the true rooms, place and place_lstm a PANORAMA_ORB map of the tour
 TOUR_POLICIES ?= assets/policies/tour
 LSTM_POLICIES ?= runs/train
+TOUR_RUNS := noplace:none:noplace noplace_lstm:none:noplace_lstm \
+	place:panorama-orb:place place_lstm:oracle:place_lstm place_true:oracle:place \
+	oracle:oracle:oracle
 AGENT_ERRANDS := --split test --n-scenes 20 --rooms 6 --goals-per-scene 5 --workers 2 \
-	--errand-start carried --out runs/agents/carried
+	--errand-start carried --agent ppo
 agents-tour: $(VENV)/.installed
-	$(VENV)/bin/placeclust errands $(AGENT_ERRANDS) --recognizer none --agent ppo \
-		--policy $(TOUR_POLICIES)/carried_noplace/policy.zip --json runs/agents/carried-noplace.json
-	for a in place oracle; do $(VENV)/bin/placeclust errands $(AGENT_ERRANDS) \
-		--recognizer panorama-orb --agent ppo --policy $(TOUR_POLICIES)/carried_$$a/policy.zip \
-		--json runs/agents/carried-$$a.json || exit 1; done
-	$(VENV)/bin/placeclust errands $(AGENT_ERRANDS) --recognizer oracle --agent ppo \
-		--policy $(TOUR_POLICIES)/carried_place/policy.zip --json runs/agents/carried-place-true.json
-	$(VENV)/bin/placeclust errands $(AGENT_ERRANDS) --recognizer panorama-orb --agent planner \
-		--json runs/agents/carried-planner.json
-	$(VENV)/bin/placeclust errands $(AGENT_ERRANDS) --recognizer none --agent ppo \
-		--policy $(LSTM_POLICIES)/carried_noplace_lstm/policy.zip \
-		--json runs/agents/carried-noplace_lstm.json
-	$(VENV)/bin/placeclust errands $(AGENT_ERRANDS) --recognizer oracle --agent ppo \
-		--policy $(LSTM_POLICIES)/carried_place_lstm/policy.zip \
-		--json runs/agents/carried-place_lstm-true.json
-	$(VENV)/bin/placeclust compare runs/agents/carried-place.json \
-		runs/agents/carried-noplace.json $(DOCS) --section agents-carried-place-noplace
-	$(VENV)/bin/placeclust compare runs/agents/carried-oracle.json \
-		runs/agents/carried-place.json $(DOCS) --section agents-carried-oracle-place
-	$(VENV)/bin/placeclust compare runs/agents/carried-place-true.json \
-		runs/agents/carried-place.json $(DOCS) --section agents-carried-place-recognition
-	$(VENV)/bin/placeclust compare runs/agents/carried-place.json \
-		runs/agents/carried-planner.json $(DOCS) --section agents-carried-place-planner
-	$(VENV)/bin/placeclust compare runs/agents/carried-noplace_lstm.json \
-		runs/agents/carried-noplace.json $(DOCS) --section agents-carried-memory-noplace
-	$(VENV)/bin/placeclust compare runs/agents/carried-place_lstm-true.json \
-		runs/agents/carried-place-true.json $(DOCS) --section agents-carried-memory-place
+	for l in grid corridor; do for run in $(TOUR_RUNS); do \
+		name=$${run%%:*}; rest=$${run#*:}; rec=$${rest%%:*}; pol=$${rest#*:}; \
+		case $$pol in *_lstm) dir=$(LSTM_POLICIES);; *) dir=$(TOUR_POLICIES);; esac; \
+		$(VENV)/bin/placeclust errands $(AGENT_ERRANDS) --layout $$l --recognizer $$rec \
+			--policy $$dir/carried_$$pol/best_model.zip --out runs/agents/$$l \
+			--json runs/agents/$$l/$$name.json || exit 1; done; \
+		$(PY) -m train.report $(foreach r,$(TOUR_RUNS),$(firstword $(subst :, ,$(r)))=runs/agents/$$l/$(firstword $(subst :, ,$(r))).json) \
+			--against oracle noplace noplace_lstm $(DOCS) --section agents-carried-$$l || exit 1; done
+
+# the place agents on the suite's leaderboard (errands continued from the tour, 60 test
+# buildings, ~90 minutes): the one trained on continued errands and the carried one, paired
+# with the planner on the same maps (make leaderboard); the carried place and noplace paired
+agents-suite: $(VENV)/.installed
+	$(VENV)/bin/placeclust leaderboard --suite placenav-v1 --recognizers oracle panorama-orb \
+		--agent ppo --policy $(TOUR_POLICIES)/continued_place/best_model.zip \
+		--out runs/suite-continued-place $(DOCS)
+	for r in oracle panorama-orb; do $(VENV)/bin/placeclust compare \
+		runs/suite-continued-place/results.json runs/leaderboard/results.json --a $$r --b $$r \
+		$(DOCS) --section agents-suite-continued-planner-$$r || exit 1; done
+	$(VENV)/bin/placeclust leaderboard --suite placenav-v1 --recognizers oracle panorama-orb \
+		--agent ppo --policy $(TOUR_POLICIES)/carried_place/best_model.zip \
+		--out runs/suite-place $(DOCS)
+	$(VENV)/bin/placeclust leaderboard --suite placenav-v1 --recognizers none --agent ppo \
+		--policy $(TOUR_POLICIES)/carried_noplace/best_model.zip --out runs/suite-noplace
+	for r in oracle panorama-orb; do $(VENV)/bin/placeclust compare runs/suite-place/results.json \
+		runs/leaderboard/results.json --a $$r --b $$r $(DOCS) \
+		--section agents-suite-place-planner-$$r || exit 1; done
+	for r in oracle panorama-orb; do $(VENV)/bin/placeclust compare runs/suite-place/results.json \
+		runs/suite-noplace/results.json --a $$r --b none $(DOCS) \
+		--section agents-suite-place-noplace-$$r || exit 1; done
 
 clean:
 	rm -rf $(VENV) runs .pytest_cache .ruff_cache

@@ -84,7 +84,7 @@ def test_the_installed_wheel_works_outside_the_repository(wheel, tmp_path):
     for agent in ("planner", "ppo"):
         scores = run(placeclust, "errands", "--scene-seeds", "0", "--rooms", "3",
                      "--recognizer", "oracle", "--agent", agent, "--goals-per-scene", "1",
-                     "--json", f"{agent}.json")
+                     "--tour-steps-per-room", "40", "--json", f"{agent}.json")
         assert "success_rate=" in scores and (work / f"{agent}.json").is_file()
     # ... and a recognizer of the user's own, from a module in the folder they work in
     shutil.copy(ROOT / "examples" / "tiny_recognizer.py", work / "mine.py")

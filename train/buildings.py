@@ -10,6 +10,7 @@ import numpy as np
 
 import envs  # noqa: F401  (registers the environments)
 from envs.agents.learned import OBSERVE, observed
+from envs.world.scene import LAYOUTS
 from envs.world.splits import check_split
 
 
@@ -24,13 +25,15 @@ class TrainBuildings(gym.Env):
             one of :data:`~envs.agents.tour_features.SENSES`
             (:class:`~envs.agents.tour_features.TourFeatures`, an agent on its own).
         n_rooms: the rooms of each building, or a list to draw each building's from.
+        layout: the buildings' floor plan (:data:`~envs.world.scene.LAYOUTS`), or a list to
+            draw each building's from: ``[grid, corridor]`` trains on both.
         repeat: env steps each action is held for (tour features only).
-        **task: more ``PlaceNav-GuidedTour-v1`` arguments (``recognizer``, ``layout``...).
+        **task: more ``PlaceNav-GuidedTour-v1`` arguments (``recognizer``, ``errand_start``...).
     """
 
     def __init__(self, scene_seeds: Sequence[int], episodes_per_building: int = 1,
-                 observe: str = "hints", n_rooms: int | Sequence[int] = 6, repeat: int = 1,
-                 **task: Any) -> None:
+                 observe: str = "hints", n_rooms: int | Sequence[int] = 6,
+                 layout: str | Sequence[str] = "grid", repeat: int = 1, **task: Any) -> None:
         check_split("train", scene_seeds)
         if observe not in OBSERVE:
             raise ValueError(f"unknown observe {observe!r}; choose one of {OBSERVE}")
@@ -39,16 +42,20 @@ class TrainBuildings(gym.Env):
         self.observe = observe
         self.repeat = repeat
         self.room_counts = [n_rooms] if isinstance(n_rooms, int) else list(n_rooms)
+        self.layouts = [layout] if isinstance(layout, str) else list(layout)
+        unknown = sorted(set(self.layouts) - set(LAYOUTS))
+        if unknown or not self.layouts:
+            raise ValueError(f"unknown layout {unknown or layout!r}; choose from {LAYOUTS}")
         self.task = task
         self._episodes = 0
-        self._env = self._make(self.scene_seeds[0], self.room_counts[0])
+        self._env = self._make(self.scene_seeds[0], self.room_counts[0], self.layouts[0])
         self.observation_space = self._env.observation_space
         self.action_space = self._env.action_space
 
-    def _make(self, scene_seed: int, n_rooms: int) -> gym.Env:
-        self.scene_seed = scene_seed  # the building of the current episode
+    def _make(self, scene_seed: int, n_rooms: int, layout: str) -> gym.Env:
+        self.scene_seed, self.layout = scene_seed, layout  # the current episode's building
         env = gym.make("PlaceNav-GuidedTour-v1", scene_seed=scene_seed, n_rooms=n_rooms,
-                       **self.task)
+                       layout=layout, **self.task)
         return observed(env, self.observe, self.repeat)
 
     def reset(self, *, seed: int | None = None, options: dict[str, Any] | None = None
@@ -58,7 +65,8 @@ class TrainBuildings(gym.Env):
             self._env.close()
             scene = self.scene_seeds[int(self.np_random.integers(len(self.scene_seeds)))]
             rooms = self.room_counts[int(self.np_random.integers(len(self.room_counts)))]
-            self._env = self._make(scene, rooms)
+            layout = self.layouts[int(self.np_random.integers(len(self.layouts)))]
+            self._env = self._make(scene, rooms, layout)
         self._episodes += 1
         return self._env.reset(seed=int(self.np_random.integers(2**31)), options=options)
 

@@ -93,7 +93,7 @@ class LearnedAgent:
         if not policy.is_file():
             raise FileNotFoundError(f"no policy file {policy}; train one with python -m "
                                     "train.train (see train/hyperparams/)")
-        config = _config(policy.parent / "config.yml")
+        config = _config(config_path(policy))
         env = config.get("env", {})
         observe, repeat = env.get("observe", "hints"), int(env.get("repeat", 1))
         algo = config.get("algo", "ppo")
@@ -121,6 +121,15 @@ class LearnedAgent:
             memory["start"] = np.zeros(1, bool)
             return action
         return act
+
+
+def config_path(policy: Path) -> Path:
+    """The ``config.yml`` that describes ``policy``: beside it, or for a checkpoint
+    (``<run>/checkpoints/ppo_<n>_steps.zip``) its run folder's."""
+    beside = policy.parent / "config.yml"
+    if not beside.is_file() and policy.parent.name == "checkpoints":
+        return policy.parent.parent / "config.yml"
+    return beside
 
 
 def _config(path: Path) -> dict[str, Any]:

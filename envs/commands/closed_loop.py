@@ -43,7 +43,7 @@ from placeclust.progress import progress as progress_bar
 from placeclust.runner import preset_params, recognizer_class
 
 from ..agents import hints
-from ..agents.learned import LearnedAgent
+from ..agents.learned import LearnedAgent, config_path
 from ..agents.teach_repeat import TourPlanner
 from ..tasks.guided_tour import ERRAND_STARTS
 from ..tasks.recognizers import RECOGNIZERS, check_recognizer_name, make_recognizer
@@ -144,9 +144,9 @@ def job_fingerprint(job: dict[str, Any]) -> str:
     """A hash of all the code that makes a job's result: the library, the world, the tasks
     and the agents (:func:`~envs.commands.suite.code_fingerprint`), this module, for a
     ``package.module:Class`` recognizer its module's source, and for ``ppo`` the policy
-    file. A kept row is reused only under the same fingerprint, library versions and render
-    fingerprint (:func:`run_jobs`): an edit anywhere a result could come from, within one
-    version of placeclust, runs the job again."""
+    file and its ``config.yml``. A kept row is reused only under the same fingerprint,
+    library versions and render fingerprint (:func:`run_jobs`): an edit anywhere a result
+    could come from, within one version of placeclust, runs the job again."""
     sources = [Path(__file__)]
     if ":" in job.get("recognizer", ""):
         sources.append(Path(inspect.getfile(recognizer_class(job["recognizer"]))))
@@ -154,6 +154,8 @@ def job_fingerprint(job: dict[str, Any]) -> str:
         policy = Path(job.get("policy") or POLICY)
         if policy.is_file():  # a missing one is reported by the job itself
             sources.append(policy)
+            if config_path(policy).is_file():  # what the policy observes, how often it acts
+                sources.append(config_path(policy))
     return sources_fingerprint(*sources)
 
 

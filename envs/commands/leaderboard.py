@@ -32,6 +32,7 @@ processes; ``--executor ray`` with Ray's ``RAY_ADDRESS`` set spreads them over t
 from __future__ import annotations
 
 import argparse
+import re
 import shlex
 import sys
 from pathlib import Path
@@ -50,7 +51,7 @@ from .closed_loop import (
     run_settings,
     tour_task,
 )
-from .results import TARGET_HALF_WIDTH, interval_text, seed_span, write_results
+from .results import TARGET_HALF_WIDTH, interval_text, policy_name, seed_span, write_results
 from .suite import SIZES, SUITES, get_suite, provenance
 
 
@@ -189,6 +190,8 @@ def main(argv: list[str] | None = None, prog: str = "placeclust leaderboard"
         name = "leaderboard-" + (args.suite or args.split or "scenes")
         name += "" if args.size == "full" else f"-{args.size}"
         name += "" if args.agent == "planner" else f"-{args.agent}"
+        if args.agent == "ppo" and args.policy:  # two policies' boards keep their own sections
+            name += "-" + re.sub(r"[^a-z0-9]+", "-", policy_name(str(args.policy)).lower())
         write_section(args.docs, name, body, shlex.join([*prog.split(), *argv]))
     return 0
 
@@ -207,11 +210,18 @@ def _describe(args: argparse.Namespace, seeds: list[int], summaries: list[dict[s
     errands = sum(s["errands"] for s in summaries)
     return (f"{suite}{len(seeds)} buildings of {args.rooms} rooms ({where} {span}), "
             f"{args.goals_per_scene} errands each after one guided tour, episode seed "
-            f"{args.seed}, agent `{args.agent}`; {minutes:.0f} minutes of one core in all. "
+            f"{args.seed}, agent `{args.agent}`{_policy(args)}; {minutes:.0f} minutes of one "
+            "core in all. "
             f"Each figure: the mean over errands (tours for the map's figures) with its 95% "
             f"interval from a bootstrap over buildings. {redrawn} of {errands} errands were "
             "redrawn to start at least 1 m of walking from their goal. Spearman's rank "
             f"correlation of success with NMI ({len(summaries)} points, no interval): {rho:.2f}.")
+
+
+def _policy(args: argparse.Namespace) -> str:
+    if args.agent != "ppo":
+        return ""
+    return f" (policy {policy_name(None if args.policy is None else str(args.policy))})"
 
 
 if __name__ == "__main__":

@@ -109,8 +109,9 @@ def load_results(path: Path) -> dict[str, Any]:
 
 
 def policy_name(policy: str | None) -> str:
-    """A policy's short name: its run folder for a ``policy.zip``, else its file's stem."""
+    """A policy's short name: its run folder for a run's ``policy.zip`` or ``best_model.zip``
+    (:mod:`train.train`, :mod:`train.choose`), else its file's stem."""
     if policy is None:
         return "shipped"
     path = Path(policy)
-    return path.parent.name if path.name == "policy.zip" else path.stem
+    return path.parent.name if path.name in ("policy.zip", "best_model.zip") else path.stem

@@ -36,3 +36,18 @@ def test_buildings_draw_their_room_counts_and_observe_tour_features():
         assert counts == {2, 3}
     finally:
         env.close()
+
+
+def test_buildings_draw_their_layouts():
+    with pytest.raises(ValueError, match="unknown layout"):
+        TrainBuildings([0], observe="noplace", layout=["grid", "maze"], **TASK)
+    env = TrainBuildings([0, 1], observe="noplace", layout=["grid", "corridor"], **TASK)
+    try:
+        layouts = set()
+        for seed in range(8):
+            obs, _ = env.reset(seed=seed)
+            assert obs in env.observation_space  # the same features in either layout
+            layouts.add(env.layout)
+        assert layouts == {"grid", "corridor"}
+    finally:
+        env.close()

@@ -57,6 +57,9 @@ def test_the_job_fingerprint_follows_the_code_and_the_policy_file(tmp_path, monk
     first = job_fingerprint(job)
     (tmp_path / "a.zip").write_bytes(b"the policy trained again")
     assert job_fingerprint(job) != first
+    again = job_fingerprint(job)
+    (tmp_path / "config.yml").write_text("env: {observe: place, repeat: 4}\n")
+    assert job_fingerprint(job) != again  # what the policy observes changes what it does
     assert job_fingerprint({"agent": "planner"}) == job_fingerprint({"agent": "planner"})
     planner = job_fingerprint({"agent": "planner"})
     monkeypatch.setattr(suite, "code_fingerprint", lambda: "the recognizer edited")
@@ -134,3 +137,5 @@ def test_two_policies_keep_two_job_files():
     a = closed_loop.job_key({**job, "policy": "runs/train/carried_place/policy.zip"})
     b = closed_loop.job_key({**job, "policy": "runs/train/carried_oracle/policy.zip"})
     assert a != b and "carried_place" in a
+    chosen = closed_loop.job_key({**job, "policy": "runs/train/carried_place/best_model.zip"})
+    assert "carried_place" in chosen  # train.choose's pick is named by its run too

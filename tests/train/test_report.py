@@ -1,0 +1,69 @@
+"""``python -m train.report``: errand agents on the same buildings, paired against brackets."""
+
+import json
+
+import pytest
+
+from envs.commands.results import write_results
+from train.report import main
+
+PROVENANCE = {"suite": None, "size": "full", "definition": {},
+              "versions": {"placeclust": "0.13.0"}, "render_fingerprint": "abc"}
+
+
+def _agent_file(folder, name, recognizer, successes, **settings):
+    """``successes[s]``: building s's errands, 1 for a success."""
+    rows = []
+    for scene, done in enumerate(successes):
+        errands = [{"goal": "a", "success": bool(x), "steps": 100 if x else 500, "path": 5.0,
+                    "shortest": 4.0, "spl": 0.8 * x, "redrawn": False} for x in done]
+        rows.append({"scene_seed": 2000 + scene, "recognizer": recognizer, "agent": "ppo",
+                     "success_rate": sum(done) / len(done), "errands": errands,
+                     "precision": 1.0, "nmi": 1.0, "n_places": 6, "places_per_room": 1.0,
+                     "seconds": 1.0})
+    base = {"split": "test", "scene_seeds": [2000 + s for s in range(len(successes))],
+            "rooms": 6, "goals": 4, "seed": 0, "agent": "ppo",
+            "policy": f"runs/train/carried_{name}/best_model.zip",
+            "task": {"errand_start": "carried"}}
+    path = folder / f"{name}.json"
+    write_results(path, rows, [recognizer], {**base, **settings}, PROVENANCE)
+    return f"{name}={path}"
+
+
+@pytest.fixture
+def agents(tmp_path):
+    return [_agent_file(tmp_path, "noplace", "none", [[0, 0, 0, 1]] * 8),
+            _agent_file(tmp_path, "place", "panorama-orb", [[1, 1, 0, 0]] * 4 + [[1, 0, 0, 1]] * 4),
+            _agent_file(tmp_path, "oracle", "oracle", [[1, 1, 1, 0]] * 8)]
+
+
+def test_each_agent_is_paired_against_the_brackets(agents, tmp_path, capsys):
+    docs = tmp_path / "bench.md"
+    assert main([*agents, "--against", "oracle", "noplace", "--docs", str(docs),
+                 "--section", "agents-test"]) == 0
+    out = capsys.readouterr().out
+    assert "| `place` | carried_place | panorama-orb | 0.50 [0.50, 0.50] |" in out
+    # place − oracle, place − noplace
+    assert "**-0.25 [-0.25, -0.25]** | **+0.25 [+0.25, +0.25]** |" in out
+    assert "`oracle` is at or above every other agent" in out
+    assert "errand_start carried" in out and "2000–2007" in out
+    text = docs.read_text()
+    assert "BEGIN GENERATED agents-test" in text and "python -m train.report" in text
+
+
+def test_an_upper_bracket_below_another_agent_is_said(agents, capsys):
+    assert main([*agents, "--against", "noplace", "oracle"]) == 0
+    assert "`noplace` is below `place`, `oracle` beyond the interval" in capsys.readouterr().out
+
+
+def test_incomparable_files_and_bad_names_are_refused(agents, tmp_path, capsys):
+    other = _agent_file(tmp_path, "elsewhere", "oracle", [[1, 1, 1, 1]] * 8, rooms=4)
+    assert main([*agents, other, "--against", "oracle"]) == 2
+    assert "settings rooms: 6 against 4" in capsys.readouterr().err
+    assert main([*agents, "--against", "random"]) == 2
+    assert "--against names ['random']" in capsys.readouterr().err
+    assert main([agents[0], agents[0], "--against", "noplace"]) == 2
+    assert "named twice" in capsys.readouterr().err
+    assert main(["noplace", "--against", "noplace"]) == 2
+    assert "is not NAME=FILE" in capsys.readouterr().err
+    json.loads((tmp_path / "noplace.json").read_text())  # nothing written over

@@ -1,0 +1,144 @@
+"""One table of errand agents on the same buildings, each paired against the brackets.
+
+    python -m train.report noplace=runs/agents/grid/noplace.json \\
+        place=runs/agents/grid/place.json oracle=runs/agents/grid/oracle.json \\
+        --against oracle noplace [--docs docs/benchmarks.md --section agents-carried-grid]
+
+Each ``NAME=FILE`` is one agent's ``placeclust errands --json`` results. The table gives each
+agent's success and SPL with their 95% intervals over buildings, and for each ``--against``
+agent the paired difference of success with its interval (:func:`placeclust.stats.
+paired_difference`, the buildings resampled jointly). A line under the table says whether the
+first ``--against`` agent, the upper bracket, is below any other beyond its interval.
+
+Files from different buildings, errands or tours are refused as ``placeclust compare`` refuses
+them (:func:`envs.commands.compare.differences`); the agent, its policy and the recognizer may
+differ, as they are what the table is about.
+"""
+
+from __future__ import annotations
+
+import argparse
+import shlex
+import sys
+from pathlib import Path
+from typing import Any
+
+from envs.commands.compare import differences
+from envs.commands.results import groups, load_results, policy_name, seed_span
+from placeclust.docs_section import write_section
+from placeclust.stats import Estimate, interval, paired_difference
+
+
+def load_agents(named: list[str]) -> dict[str, dict[str, Any]]:
+    """``NAME=FILE`` arguments as {name: results document}; every file must hold one
+    recognizer and be comparable with the first.
+
+    Raises:
+        ValueError: a malformed argument, a repeated name or incomparable files.
+    """
+    docs: dict[str, dict[str, Any]] = {}
+    for item in named:
+        name, sep, path = item.partition("=")
+        if not sep or not name or not path:
+            raise ValueError(f"{item!r} is not NAME=FILE")
+        if name in docs:
+            raise ValueError(f"agent {name!r} is named twice")
+        doc = load_results(Path(path))
+        if len(doc["summaries"]) != 1:
+            raise ValueError(f"{path} holds {len(doc['summaries'])} recognizers; one agent "
+                             "file holds one (placeclust errands --json)")
+        if docs:
+            found = differences(next(iter(docs.values())), doc)
+            if found:
+                raise ValueError(f"{path} is not comparable with the first file: "
+                                 + "; ".join(found))
+        docs[name] = doc
+    if len(docs) < 2:
+        raise ValueError("name at least two agents")
+    return docs
+
+
+def _rows(doc: dict[str, Any], seeds: list[int]) -> list[dict[str, Any]]:
+    by_seed = {r["scene_seed"]: r for r in doc["buildings"]}
+    return [by_seed[s] for s in seeds]
+
+
+def _cell(est: Estimate, sign: bool = False) -> str:
+    text = f"{est.mean:+.2f} [{est.low:+.2f}, {est.high:+.2f}]" if sign else \
+        f"{est.mean:.2f} [{est.low:.2f}, {est.high:.2f}]"
+    decided = est.low > 0 or est.high < 0
+    return f"**{text}**" if sign and decided else text
+
+
+def agents_table(docs: dict[str, dict[str, Any]], against: list[str]) -> tuple[str, list[str]]:
+    """The markdown table and, for the first of ``against``, the agents it falls below
+    (the difference's interval wholly under 0)."""
+    unknown = [a for a in against if a not in docs]
+    if unknown:
+        raise ValueError(f"--against names {unknown}, not among the agents {list(docs)}")
+    seeds = sorted(set.intersection(*({r["scene_seed"] for r in d["buildings"]}
+                                      for d in docs.values())))
+    if len(seeds) < 2:
+        raise ValueError(f"the files share {len(seeds)} buildings; pairing needs 2 or more")
+    success = {n: groups(_rows(d, seeds), "success_rate") for n, d in docs.items()}
+    spl = {n: groups(_rows(d, seeds), "spl") for n, d in docs.items()}
+    head = ["agent", "policy", "map", "success", "SPL", *(f"− {a}" for a in against)]
+    lines = ["| " + " | ".join(head) + " |", "|" + "---|" * len(head)]
+    below = []
+    for name, doc in docs.items():
+        settings = doc["settings"]
+        policy = policy_name(settings.get("policy")) if settings.get("agent") == "ppo" \
+            else settings.get("agent", "")
+        diffs = []
+        for ref in against:
+            if ref == name:
+                diffs.append("")
+                continue
+            est = paired_difference(success[name], success[ref])
+            diffs.append(_cell(est, sign=True))
+            if ref == against[0] and est.low > 0:
+                below.append(name)
+        cells = [f"`{name}`", policy, doc["summaries"][0]["recognizer"],
+                 _cell(interval(success[name])), _cell(interval(spl[name])), *diffs]
+        lines.append("| " + " | ".join(cells) + " |")
+    return "\n".join(lines), below
+
+
+def main(argv: list[str] | None = None) -> int:
+    p = argparse.ArgumentParser(prog="python -m train.report", description=__doc__,
+                                formatter_class=argparse.RawDescriptionHelpFormatter)
+    p.add_argument("agents", nargs="+", metavar="NAME=FILE")
+    p.add_argument("--against", nargs="+", required=True, metavar="NAME",
+                   help="agents to pair every other with; the first is the upper bracket")
+    p.add_argument("--docs", metavar="FILE", help="also write the table into FILE's section")
+    p.add_argument("--section", default="agents", help="the section's name")
+    argv = sys.argv[1:] if argv is None else list(argv)
+    args = p.parse_args(argv)
+    try:
+        docs = load_agents(args.agents)
+        text, below = agents_table(docs, args.against)
+    except (ValueError, FileNotFoundError) as e:
+        print(f"error: {e}", file=sys.stderr)
+        return 2
+    first = next(iter(docs.values()))
+    seeds = sorted({r["scene_seed"] for r in first["buildings"]})
+    task = ", ".join(f"{k} {v}" for k, v in (first["settings"].get("task") or {}).items())
+    errands = first["summaries"][0]["errands"]
+    top = args.against[0]
+    bracket = (f"`{top}` is at or above every other agent within its interval." if not below
+               else f"`{top}` is below {', '.join(f'`{n}`' for n in below)} beyond the "
+               "interval: the bracket does not hold.")
+    body = (f"{first['settings']['split']} buildings {seed_span(seeds)} "
+            f"({len(seeds)}, {first['settings']['rooms']} rooms, {errands} errands"
+            f"{', ' + task if task else ''}); mean [95% bootstrap interval over buildings]; "
+            "differences paired on the same buildings and errands, **bold** where the "
+            f"interval excludes 0.\n\n{text}\n\n{bracket}")
+    print(body)
+    if args.docs:
+        write_section(args.docs, args.section, body,
+                      shlex.join(["python", "-m", "train.report", *argv]))
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
