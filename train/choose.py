@@ -27,7 +27,7 @@ from typing import Any
 
 import yaml
 
-from envs.commands.closed_loop import make_jobs, run_jobs, tour_task
+from envs.commands.closed_loop import TOUR_STEPS_PER_ROOM, make_jobs, run_jobs, tour_task
 from envs.commands.results import summarize
 from envs.world.scene import LAYOUTS
 from envs.world.splits import scenes
@@ -80,7 +80,7 @@ def choose(run: Path, n_scenes: int = 4, rooms: int = 6, goals: int = 5,
     layouts = layouts or _layouts(env)
     errand_start = env.get("errand_start", "continue")
     seeds = list(scenes("val", n_scenes))
-    tasks = [tour_task(env.get("tour_steps_per_room", 150), errand_start, layout)
+    tasks = [tour_task(env.get("tour_steps_per_room", TOUR_STEPS_PER_ROOM), errand_start, layout)
              for layout in layouts]
     scored = []
     for decisions, policy in candidates(run):

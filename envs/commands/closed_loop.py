@@ -154,8 +154,9 @@ def job_fingerprint(job: dict[str, Any]) -> str:
         policy = Path(job.get("policy") or POLICY)
         if policy.is_file():  # a missing one is reported by the job itself
             sources.append(policy)
-            if config_path(policy).is_file():  # what the policy observes, how often it acts
-                sources.append(config_path(policy))
+            config = config_path(policy)
+            if config.is_file():  # what the policy observes, how often it acts
+                sources.append(config)
     return sources_fingerprint(*sources)
 
 

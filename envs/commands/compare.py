@@ -23,7 +23,6 @@ agent or suite size, each side's name says which, e.g. ``panorama (long)`` again
 from __future__ import annotations
 
 import argparse
-import re
 import shlex
 import sys
 from pathlib import Path
@@ -32,7 +31,7 @@ from typing import Any
 from placeclust.docs_section import write_section
 from placeclust.stats import interval, paired_difference, probability_of_improvement
 
-from .results import groups, load_results, policy_name, seed_span
+from .results import groups, load_results, policy_name, seed_span, slug
 
 #: settings that say who acted, not what was measured: results differing in them compare
 AGENT_KEYS = ("recognizers", "agent", "policy")
@@ -171,9 +170,8 @@ def main(argv: list[str] | None = None, prog: str = "placeclust compare") -> int
             f"{verdict(figures, name_a, name_b, len(rows_a))}")
     print(body)
     if args.docs:
-        slug = "-".join(re.sub(r"[^a-z0-9]+", "-", n.lower()).strip("-")
-                        for n in (name_a, name_b))
-        write_section(args.docs, args.section or f"compare-{slug}", body,
+        pair = "-".join(slug(n) for n in (name_a, name_b))
+        write_section(args.docs, args.section or f"compare-{pair}", body,
                       shlex.join([*prog.split(), *argv]))
     return 0
 

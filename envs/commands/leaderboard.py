@@ -32,7 +32,6 @@ processes; ``--executor ray`` with Ray's ``RAY_ADDRESS`` set spreads them over t
 from __future__ import annotations
 
 import argparse
-import re
 import shlex
 import sys
 from pathlib import Path
@@ -51,7 +50,14 @@ from .closed_loop import (
     run_settings,
     tour_task,
 )
-from .results import TARGET_HALF_WIDTH, interval_text, policy_name, seed_span, write_results
+from .results import (
+    TARGET_HALF_WIDTH,
+    interval_text,
+    policy_name,
+    seed_span,
+    slug,
+    write_results,
+)
 from .suite import SIZES, SUITES, get_suite, provenance
 
 
@@ -191,7 +197,7 @@ def main(argv: list[str] | None = None, prog: str = "placeclust leaderboard"
         name += "" if args.size == "full" else f"-{args.size}"
         name += "" if args.agent == "planner" else f"-{args.agent}"
         if args.agent == "ppo" and args.policy:  # two policies' boards keep their own sections
-            name += "-" + re.sub(r"[^a-z0-9]+", "-", policy_name(str(args.policy)).lower())
+            name += "-" + slug(policy_name(str(args.policy)))
         write_section(args.docs, name, body, shlex.join([*prog.split(), *argv]))
     return 0
 

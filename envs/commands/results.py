@@ -15,6 +15,7 @@ bootstrap over buildings (:mod:`placeclust.stats`).
 from __future__ import annotations
 
 import json
+import re
 from pathlib import Path
 from typing import Any
 
@@ -106,6 +107,11 @@ def load_results(path: Path) -> dict[str, Any]:
         raise ValueError(f"{path} is not a {FORMAT} results file (written by placeclust "
                          "leaderboard or placeclust errands --json)")
     return doc
+
+
+def slug(name: str) -> str:
+    """``name`` as a part of a docs section's name: lowercase letters, digits and ``-``."""
+    return re.sub(r"[^a-z0-9]+", "-", name.lower()).strip("-")
 
 
 def policy_name(policy: str | None) -> str:
