@@ -20,10 +20,12 @@ $(VENV)/.installed: pyproject.toml
 demo: $(VENV)/.installed
 	$(VENV)/bin/placeclust demo --out runs/demo
 
+# the tests in parallel, a file per worker (its module fixtures built once): about half the time
+# on CI's 2 cores; at most 4 workers, as each loads MuJoCo and torch
 test: $(VENV)/.installed
 	$(PY) -m ruff check .
 	$(PY) -m mypy
-	$(PY) -m pytest -q
+	$(PY) -m pytest -q -n auto --maxprocesses 4 --dist loadfile
 
 # Regenerates every table of docs/benchmarks.md, one command after the other (never two timings
 # at once): about 5 hours on a 2-core machine, the full closed-loop suite 106 minutes of it.
@@ -98,7 +100,8 @@ bench-latency: $(VENV)/.installed
 
 # reproduces the shipped errand agents, assets/policies/tour/*: trained on train buildings,
 # chosen on val (make train-tour), copied with their config, budget and val choice
-SHIPPED_TOUR := carried_noplace carried_place carried_oracle continued_place
+SHIPPED_TOUR := carried_noplace carried_place carried_oracle continued_noplace continued_place \
+	continued_oracle continued_noplace_s1 continued_place_s1 continued_oracle_s1
 train: train-tour
 	for a in $(SHIPPED_TOUR); do mkdir -p assets/policies/tour/$$a && \
 		for f in best_model.zip config.yml train_info.json choice.json; do \
@@ -126,19 +129,23 @@ train-errands: $(VENV)/.installed
 	$(PY) -m train.train --agent errands --config train/hyperparams/ppo_errands.yml \
 		--out runs/train/errands_s0
 
-# errand agents on their own in buildings never seen (envs/agents/tour_features.py), carried to
-# each errand's start: each trains on grid and corridor train buildings in 6 (PPO) to 15 (LSTM)
-# minutes on 2 cores, then its policy is chosen among its checkpoints on val (best_model.zip);
-# and the place agent for errands continued from the tour (grid buildings)
+# errand agents on their own in buildings never seen (envs/agents/tour_features.py), for each
+# task: carried to each errand's start (grid and corridor buildings) and continued from the tour
+# (grid). Each trains in 6 (PPO) to 15 (LSTM) minutes on 2 cores, then its policy is chosen among
+# its checkpoints on val (best_model.zip); the continued PPO agents are trained with a second
+# seed too (their table pools the two): about 3.5 hours in all
 TOUR_AGENTS := noplace place oracle noplace_lstm place_lstm
+TOUR_TASKS := carried:ppo_tour_carried continued:ppo_tour
+SEED1_AGENTS := noplace place oracle
 train-tour: $(VENV)/.installed
-	for a in $(TOUR_AGENTS); do \
-		$(PY) -m train.train --agent $$a --config train/hyperparams/ppo_tour_carried.yml \
-			--out runs/train/carried_$$a --no-progress && \
-		$(PY) -m train.choose runs/train/carried_$$a --workers 2 --no-progress || exit 1; done
-	$(PY) -m train.train --agent place --config train/hyperparams/ppo_tour.yml \
-		--out runs/train/continued_place --no-progress
-	$(PY) -m train.choose runs/train/continued_place --workers 2 --no-progress
+	for t in $(TOUR_TASKS); do for a in $(TOUR_AGENTS); do run=runs/train/$${t%%:*}_$$a; \
+		$(PY) -m train.train --agent $$a --config train/hyperparams/$${t#*:}.yml \
+			--out $$run --no-progress && \
+		$(PY) -m train.choose $$run --workers 2 --no-progress || exit 1; done; done
+	for a in $(SEED1_AGENTS); do run=runs/train/continued_$${a}_s1; \
+		$(PY) -m train.train --agent $$a --seed 1 --config train/hyperparams/ppo_tour.yml \
+			--out $$run --no-progress && \
+		$(PY) -m train.choose $$run --workers 2 --no-progress || exit 1; done
 
 # and scores them on 20 test buildings of each layout, paired (~40 minutes): the shipped
 # policies, or yours after make train-tour with TOUR_POLICIES=runs/train; the memory baselines
@@ -161,27 +168,36 @@ agents-tour: $(VENV)/.installed
 		$(PY) -m train.report $(foreach r,$(TOUR_RUNS),$(firstword $(subst :, ,$(r)))=runs/agents/$$l/$(firstword $(subst :, ,$(r))).json) \
 			--against oracle noplace noplace_lstm $(DOCS) --section agents-carried-$$l || exit 1; done
 
-# the place agents on the suite's leaderboard (errands continued from the tour, 60 test
-# buildings, ~90 minutes): the one trained on continued errands and the carried one, paired
-# with the planner on the same maps (make leaderboard); the carried place and noplace paired
+# the agents of errands continued from the tour on the suite's leaderboard (60 test buildings):
+# the five trained on them (the PPO ones' two seeds pooled), place also on a PANORAMA_ORB map,
+# and the carried noplace and place agents, in one paired table (about 2 hours, 70 minutes of it
+# PANORAMA_ORB); continued place paired with the planner on the same maps (make leaderboard).
+# NAME:RECOGNIZERS:POLICY
+SUITE_RUNS := noplace:none:continued_noplace noplace_s1:none:continued_noplace_s1 \
+	noplace_lstm:none:continued_noplace_lstm place:oracle,panorama-orb:continued_place \
+	place_s1:oracle,panorama-orb:continued_place_s1 place_lstm:oracle:continued_place_lstm \
+	oracle:oracle:continued_oracle oracle_s1:oracle:continued_oracle_s1 \
+	carried_noplace:none:carried_noplace carried_place:oracle:carried_place
+# NAME:RUN[+RUN]:RECOGNIZER, a row of the table (runs joined by + are seeds, pooled):
+# place_true is the place agent on the true rooms
+SUITE_ROWS := noplace:noplace+noplace_s1:none noplace_lstm:noplace_lstm:none \
+	place:place+place_s1:panorama-orb place_true:place+place_s1:oracle \
+	place_lstm:place_lstm:oracle oracle:oracle+oracle_s1:oracle \
+	carried_noplace:carried_noplace:none carried_place_true:carried_place:oracle
+empty :=
+space := $(empty) $(empty)
+comma := ,
+suite_row = $(word 1,$(subst :, ,$(1)))=$(subst $(space),$(comma),$(foreach run,$(subst +, ,$(word 2,$(subst :, ,$(1)))),runs/suite/$(run)/results.json@$(word 3,$(subst :, ,$(1)))))
 agents-suite: $(VENV)/.installed
-	$(VENV)/bin/placeclust leaderboard --suite placenav-v1 --recognizers oracle panorama-orb \
-		--agent ppo --policy $(TOUR_POLICIES)/continued_place/best_model.zip \
-		--out runs/suite-continued-place $(DOCS)
+	for run in $(SUITE_RUNS); do name=$${run%%:*}; rest=$${run#*:}; recs=$${rest%%:*}; \
+		pol=$${rest#*:}; case $$pol in *_lstm) dir=$(LSTM_POLICIES);; *) dir=$(TOUR_POLICIES);; esac; \
+		$(VENV)/bin/placeclust leaderboard --suite placenav-v1 --recognizers $$(echo $$recs | tr , ' ') \
+			--agent ppo --policy $$dir/$$pol/best_model.zip --out runs/suite/$$name || exit 1; done
+	$(PY) -m train.report $(foreach r,$(SUITE_ROWS),$(call suite_row,$(r))) \
+		--against oracle noplace noplace_lstm $(DOCS) --section agents-suite-continued
 	for r in oracle panorama-orb; do $(VENV)/bin/placeclust compare \
-		runs/suite-continued-place/results.json runs/leaderboard/results.json --a $$r --b $$r \
+		runs/suite/place/results.json runs/leaderboard/results.json --a $$r --b $$r \
 		$(DOCS) --section agents-suite-continued-planner-$$r || exit 1; done
-	$(VENV)/bin/placeclust leaderboard --suite placenav-v1 --recognizers oracle panorama-orb \
-		--agent ppo --policy $(TOUR_POLICIES)/carried_place/best_model.zip \
-		--out runs/suite-place $(DOCS)
-	$(VENV)/bin/placeclust leaderboard --suite placenav-v1 --recognizers none --agent ppo \
-		--policy $(TOUR_POLICIES)/carried_noplace/best_model.zip --out runs/suite-noplace
-	for r in oracle panorama-orb; do $(VENV)/bin/placeclust compare runs/suite-place/results.json \
-		runs/leaderboard/results.json --a $$r --b $$r $(DOCS) \
-		--section agents-suite-place-planner-$$r || exit 1; done
-	for r in oracle panorama-orb; do $(VENV)/bin/placeclust compare runs/suite-place/results.json \
-		runs/suite-noplace/results.json --a $$r --b none $(DOCS) \
-		--section agents-suite-place-noplace-$$r || exit 1; done
 
 clean:
 	rm -rf $(VENV) runs .pytest_cache .ruff_cache

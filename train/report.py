@@ -4,11 +4,15 @@
         place=runs/agents/grid/place.json oracle=runs/agents/grid/oracle.json \\
         --against oracle noplace [--docs docs/benchmarks.md --section agents-carried-grid]
 
-Each ``NAME=FILE`` is one agent's ``placeclust errands --json`` results. The table gives each
-agent's success and SPL with their 95% intervals over buildings, and for each ``--against``
-agent the paired difference of success with its interval (:func:`placeclust.stats.
-paired_difference`, the buildings resampled jointly). A line under the table says whether the
-first ``--against`` agent, the upper bracket, is below any other beyond its interval.
+Each ``NAME=FILE`` is one agent's ``placeclust errands --json`` results, or
+``NAME=FILE@RECOGNIZER`` one recognizer's rows of a file that holds several (a leaderboard's
+``results.json``, the planner's for instance); ``NAME=FILE,FILE...`` pools one agent's runs of
+several training seeds, each building's errands from all of them (the training recipe's figure
+rather than one seed's). The table gives each agent's success and SPL with their 95% intervals
+over buildings, and for each ``--against`` agent the paired difference of success with its
+interval (:func:`placeclust.stats.paired_difference`, the buildings resampled jointly). A line
+under the table says whether the first ``--against`` agent, the upper bracket, is below any
+other beyond its interval.
 
 Files from different buildings, errands or tours are refused as ``placeclust compare`` refuses
 them (:func:`envs.commands.compare.differences`); the agent, its policy and the recognizer may
@@ -30,8 +34,8 @@ from placeclust.stats import Estimate, interval, paired_difference
 
 
 def load_agents(named: list[str]) -> dict[str, dict[str, Any]]:
-    """``NAME=FILE`` arguments as {name: results document}; every file must hold one
-    recognizer and be comparable with the first.
+    """``NAME=FILE[@RECOGNIZER][,FILE[@RECOGNIZER]...]`` arguments as {name: results document
+    of one recognizer, seeds pooled}; every file must be comparable with the first.
 
     Raises:
         ValueError: a malformed argument, a repeated name or incomparable files.
@@ -43,10 +47,7 @@ def load_agents(named: list[str]) -> dict[str, dict[str, Any]]:
             raise ValueError(f"{item!r} is not NAME=FILE")
         if name in docs:
             raise ValueError(f"agent {name!r} is named twice")
-        doc = load_results(Path(path))
-        if len(doc["summaries"]) != 1:
-            raise ValueError(f"{path} holds {len(doc['summaries'])} recognizers; one agent "
-                             "file holds one (placeclust errands --json)")
+        doc = _seeds_pooled([_one_recognizer(one) for one in path.split(",")])
         if docs:
             found = differences(next(iter(docs.values())), doc)
             if found:
@@ -56,6 +57,43 @@ def load_agents(named: list[str]) -> dict[str, dict[str, Any]]:
     if len(docs) < 2:
         raise ValueError("name at least two agents")
     return docs
+
+
+def _one_recognizer(path: str) -> dict[str, Any]:
+    """The results at ``FILE`` or ``FILE@RECOGNIZER``, narrowed to that recognizer's summary
+    and buildings; a file of several recognizers (a leaderboard's) must name one."""
+    file, sep, name = path.rpartition("@") if "@" in Path(path).name else (path, "", "")
+    doc = load_results(Path(file))
+    names = [s["recognizer"] for s in doc["summaries"]]
+    if not sep:
+        if len(names) != 1:
+            raise ValueError(f"{file} holds the recognizers {names}; name one as "
+                             f"{file}@RECOGNIZER")
+        return doc
+    if name not in names:
+        raise ValueError(f"{file} holds no recognizer {name!r}; it holds {names}")
+    return {**doc, "summaries": [s for s in doc["summaries"] if s["recognizer"] == name],
+            "buildings": [r for r in doc["buildings"] if r["recognizer"] == name]}
+
+
+def _seeds_pooled(runs: list[dict[str, Any]]) -> dict[str, Any]:
+    """One agent's results from several training seeds, as one document: each building's
+    errands pooled over the seeds (the recipe's figure, not one seed's), on the buildings all
+    ran. The files must be comparable; their policies are named together."""
+    first = runs[0]
+    for doc in runs[1:]:
+        found = differences(first, doc)
+        if found:
+            raise ValueError("a seed's file is not comparable with the first: "
+                             + "; ".join(found))
+    if len(runs) == 1:
+        return first
+    by_seed = [{r["scene_seed"]: r for r in doc["buildings"]} for doc in runs]
+    shared = sorted(set.intersection(*(set(b) for b in by_seed)))
+    rows = [{**by_seed[0][s], "errands": [e for b in by_seed for e in b[s]["errands"]]}
+            for s in shared]
+    policies = [doc["settings"].get("policy") for doc in runs]
+    return {**first, "buildings": rows, "settings": {**first["settings"], "policy": policies}}
 
 
 def _rows(doc: dict[str, Any], seeds: list[int]) -> list[dict[str, Any]]:
@@ -87,8 +125,10 @@ def agents_table(docs: dict[str, dict[str, Any]], against: list[str]) -> tuple[s
     below = []
     for name, doc in docs.items():
         settings = doc["settings"]
-        policy = policy_name(settings.get("policy")) if settings.get("agent") == "ppo" \
-            else settings.get("agent", "")
+        policies = settings.get("policy")
+        policies = policies if isinstance(policies, list) else [policies]
+        policy = " + ".join(policy_name(p) for p in policies) \
+            if settings.get("agent") == "ppo" else settings.get("agent", "")
         diffs = []
         for ref in against:
             if ref == name:
@@ -107,7 +147,7 @@ def agents_table(docs: dict[str, dict[str, Any]], against: list[str]) -> tuple[s
 def main(argv: list[str] | None = None) -> int:
     p = argparse.ArgumentParser(prog="python -m train.report", description=__doc__,
                                 formatter_class=argparse.RawDescriptionHelpFormatter)
-    p.add_argument("agents", nargs="+", metavar="NAME=FILE")
+    p.add_argument("agents", nargs="+", metavar="NAME=FILE[@RECOGNIZER][,FILE...]")
     p.add_argument("--against", nargs="+", required=True, metavar="NAME",
                    help="agents to pair every other with; the first is the upper bracket")
     p.add_argument("--docs", metavar="FILE", help="also write the table into FILE's section")

@@ -67,3 +67,45 @@ def test_incomparable_files_and_bad_names_are_refused(agents, tmp_path, capsys):
     assert main(["noplace", "--against", "noplace"]) == 2
     assert "is not NAME=FILE" in capsys.readouterr().err
     json.loads((tmp_path / "noplace.json").read_text())  # nothing written over
+
+
+def test_one_recognizer_of_a_leaderboard_file_is_named_with_an_at(agents, tmp_path, capsys):
+    rows = []
+    for recognizer, done in (("oracle", [1, 1, 1, 1]), ("none", [0, 0, 0, 0])):
+        for scene in range(8):
+            rows.append({"scene_seed": 2000 + scene, "recognizer": recognizer,
+                         "agent": "planner", "success_rate": sum(done) / 4,
+                         "errands": [{"goal": "a", "success": bool(x), "steps": 100,
+                                      "path": 5.0, "shortest": 4.0, "spl": 0.8 * x,
+                                      "redrawn": False} for x in done],
+                         "precision": 1.0, "nmi": 1.0, "n_places": 6, "places_per_room": 1.0,
+                         "seconds": 1.0})
+    board = tmp_path / "board.json"
+    write_results(board, rows, ["oracle", "none"],
+                  {"split": "test", "scene_seeds": list(range(2000, 2008)), "rooms": 6,
+                   "goals": 4, "seed": 0, "agent": "planner", "policy": None,
+                   "task": {"errand_start": "carried"}}, PROVENANCE)
+    assert main([*agents, f"planner={board}@oracle", "--against", "planner"]) == 0
+    out = capsys.readouterr().out
+    assert "| `planner` | planner | oracle | 1.00 [1.00, 1.00] |" in out
+    assert "| `oracle` | carried_oracle | oracle | 0.75 [0.75, 0.75] | 0.60 [0.60, 0.60] | " \
+           "**-0.25 [-0.25, -0.25]** |" in out
+    assert main([*agents, f"planner={board}", "--against", "planner"]) == 2
+    assert "holds the recognizers ['oracle', 'none']; name one" in capsys.readouterr().err
+    assert main([*agents, f"planner={board}@panorama", "--against", "planner"]) == 2
+    assert "holds no recognizer 'panorama'" in capsys.readouterr().err
+
+
+def test_seeds_of_one_agent_are_pooled_per_building(agents, tmp_path, capsys):
+    (tmp_path / "s1").mkdir()
+    seed1 = _agent_file(tmp_path / "s1", "oracle", "oracle", [[0, 0, 0, 0]] * 8)
+    pooled = f"{agents[2]},{seed1.partition('=')[2]}"
+    assert main([*agents[:2], pooled, "--against", "oracle", "noplace"]) == 0
+    out = capsys.readouterr().out
+    # oracle's errands 3 of 4 in seed 0, none in seed 1: 3 of 8 pooled
+    assert "| `oracle` | carried_oracle + carried_oracle | oracle | 0.38 [0.38, 0.38] |" in out
+    assert "`oracle` is below `place` beyond the interval" in out
+    other = _agent_file(tmp_path / "s1", "four", "oracle", [[1, 1, 1, 1]] * 8, rooms=4)
+    assert main([*agents[:2], f"{agents[2]},{other.partition('=')[2]}",
+                 "--against", "oracle"]) == 2
+    assert "a seed's file is not comparable" in capsys.readouterr().err
