@@ -28,7 +28,7 @@ test: $(VENV)/.installed
 	$(PY) -m pytest -q -n auto --maxprocesses 4 --dist loadfile
 
 # Regenerates every table of docs/benchmarks.md, one command after the other (never two timings
-# at once): about 5 hours on a 2-core machine, the full closed-loop suite 106 minutes of it.
+# at once): about 6 hours on a 2-core machine, the full closed-loop suite 106 minutes of it.
 DOCS := --docs docs/benchmarks.md
 PANORAMA_TOURS := --algos online --features sift --conditions day --scenes 0 1 2 3 --rooms 4 8 \
 	--tour-seeds 0 1 --steps-per-room 150 --latency-sizes
