@@ -24,6 +24,7 @@ from __future__ import annotations
 import argparse
 import shlex
 import sys
+from collections.abc import Iterable
 from pathlib import Path
 from typing import Any
 
@@ -49,10 +50,7 @@ def load_agents(named: list[str]) -> dict[str, dict[str, Any]]:
             raise ValueError(f"agent {name!r} is named twice")
         doc = _seeds_pooled([_one_recognizer(one) for one in path.split(",")])
         if docs:
-            found = differences(next(iter(docs.values())), doc)
-            if found:
-                raise ValueError(f"{path} is not comparable with the first file: "
-                                 + "; ".join(found))
+            _check_comparable(next(iter(docs.values())), doc, f"{path} is")
         docs[name] = doc
     if len(docs) < 2:
         raise ValueError("name at least two agents")
@@ -82,18 +80,25 @@ def _seeds_pooled(runs: list[dict[str, Any]]) -> dict[str, Any]:
     ran. The files must be comparable; their policies are named together."""
     first = runs[0]
     for doc in runs[1:]:
-        found = differences(first, doc)
-        if found:
-            raise ValueError("a seed's file is not comparable with the first: "
-                             + "; ".join(found))
+        _check_comparable(first, doc, "a seed's file is")
     if len(runs) == 1:
         return first
-    by_seed = [{r["scene_seed"]: r for r in doc["buildings"]} for doc in runs]
-    shared = sorted(set.intersection(*(set(b) for b in by_seed)))
-    rows = [{**by_seed[0][s], "errands": [e for b in by_seed for e in b[s]["errands"]]}
-            for s in shared]
+    per_seed = [_rows(doc, _shared_seeds(runs)) for doc in runs]
+    rows = [{**same[0], "errands": [e for r in same for e in r["errands"]]}
+            for same in zip(*per_seed, strict=True)]
     policies = [doc["settings"].get("policy") for doc in runs]
     return {**first, "buildings": rows, "settings": {**first["settings"], "policy": policies}}
+
+
+def _check_comparable(first: dict[str, Any], doc: dict[str, Any], what: str) -> None:
+    found = differences(first, doc)
+    if found:
+        raise ValueError(f"{what} not comparable with the first file: " + "; ".join(found))
+
+
+def _shared_seeds(docs: Iterable[dict[str, Any]]) -> list[int]:
+    """The scene seeds of the buildings every document ran."""
+    return sorted(set.intersection(*({r["scene_seed"] for r in d["buildings"]} for d in docs)))
 
 
 def _rows(doc: dict[str, Any], seeds: list[int]) -> list[dict[str, Any]]:
@@ -114,8 +119,7 @@ def agents_table(docs: dict[str, dict[str, Any]], against: list[str]) -> tuple[s
     unknown = [a for a in against if a not in docs]
     if unknown:
         raise ValueError(f"--against names {unknown}, not among the agents {list(docs)}")
-    seeds = sorted(set.intersection(*({r["scene_seed"] for r in d["buildings"]}
-                                      for d in docs.values())))
+    seeds = _shared_seeds(docs.values())
     if len(seeds) < 2:
         raise ValueError(f"the files share {len(seeds)} buildings; pairing needs 2 or more")
     success = {n: groups(_rows(d, seeds), "success_rate") for n, d in docs.items()}
