@@ -171,7 +171,8 @@ agents-tour: $(VENV)/.installed
 # the agents of errands continued from the tour on the suite's leaderboard (60 test buildings):
 # the five trained on them (the PPO ones' two seeds pooled), place also on a PANORAMA_ORB map,
 # and the carried noplace and place agents, in one paired table (about 2 hours, 70 minutes of it
-# PANORAMA_ORB); continued place paired with the planner on the same maps (make leaderboard).
+# PANORAMA_ORB); continued place paired with the planner on the same maps (make leaderboard);
+# and how far the PPO agents' dead reckoning drifts on 6 val buildings (train.drift, 3 minutes).
 # NAME:RECOGNIZERS:POLICY
 SUITE_RUNS := noplace:none:continued_noplace noplace_s1:none:continued_noplace_s1 \
 	noplace_lstm:none:continued_noplace_lstm place:oracle,panorama-orb:continued_place \
@@ -198,6 +199,8 @@ agents-suite: $(VENV)/.installed
 	for r in oracle panorama-orb; do $(VENV)/bin/placeclust compare \
 		runs/suite/place/results.json runs/leaderboard/results.json --a $$r --b $$r \
 		$(DOCS) --section agents-suite-continued-planner-$$r || exit 1; done
+	$(PY) -m train.drift $(foreach a,noplace place oracle,$(TOUR_POLICIES)/continued_$(a)/best_model.zip) \
+		$(DOCS) --section agents-drift
 
 clean:
 	rm -rf $(VENV) runs .pytest_cache .ruff_cache

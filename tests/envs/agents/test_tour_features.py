@@ -81,7 +81,11 @@ def test_each_agent_sees_what_the_one_before_sees_and_more(features):
     for senses, obs in runs.items():
         assert obs.shape[1] == n_features(senses) and np.all(np.abs(obs) <= 2.0)
     assert np.array_equal(runs["noplace"], runs["place"][:, :N_BASE])
-    assert np.array_equal(runs["place"], runs["oracle"][:, :N_BASE + N_PLACE])
+    # the same, but for the oracle's dead reckoning, corrected once it moves between rooms
+    place, oracle = runs["place"], runs["oracle"]
+    assert np.array_equal(place[:, :N_BASE - 4], oracle[:, :N_BASE - 4])
+    assert np.array_equal(place[:, N_BASE:], oracle[:, N_BASE:N_BASE + N_PLACE])
+    assert np.array_equal(place[0], oracle[0, :N_BASE + N_PLACE])
     # with a recognizer right about every room, the place is the room
     oracle = runs["oracle"]
     assert np.allclose(oracle[:, N_BASE:N_BASE + N_PLACE], oracle[:, N_BASE + N_PLACE:])
@@ -93,6 +97,30 @@ def test_dead_reckoning_is_lost_when_the_robot_is_carried(features):
     carried = _drive(features("place", errand_start="carried"), seed=3)
     assert np.all(carried[:, N_BASE - 1] == 0.0)  # never known after a carry
     assert carried[:, N_BASE + 3].max() >= 0.5  # the place tells it where it is
+    # nothing to re-anchor: the carried agents see what they were trained on
+    noplace = _drive(features("noplace", errand_start="carried"), seed=3)
+    assert np.array_equal(noplace, carried[:, :N_BASE])
+
+
+def _pursue(obs):
+    """Drive toward the carrot of the way from dead reckoning (pure pursuit)."""
+    ahead, side = obs[N_BASE - 4], obs[N_BASE - 3]
+    return np.clip([ahead, 2.0 * side], -1.0, 1.0).astype(np.float32)
+
+
+def test_only_the_oracles_dead_reckoning_is_re_anchored_where_it_crosses_a_door(features):
+    crossings = {}
+    for senses in ("place", "oracle"):
+        env = features(senses, n_errands=2, errand_steps=200)
+        obs, _ = env.reset(seed=4)
+        crossings[senses], done = [], False
+        while not done:
+            label = obs[-N_PLACE:]  # the place's block, or the true room's
+            if label[5] == 1.0 and label[3] == 1.0:  # just entered where the tour crossed
+                crossings[senses].append(np.abs(obs[N_BASE - 4:N_BASE] - label[:4]).max())
+            obs, _, done, _, _ = env.step(_pursue(obs))
+    assert crossings["oracle"] and max(crossings["oracle"]) < 1e-6
+    assert crossings["place"] and max(crossings["place"]) > 1e-3  # its own, drifting
 
 
 def test_unknown_senses_are_refused(made):
