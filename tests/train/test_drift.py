@@ -20,7 +20,7 @@ def test_a_policy_of_carried_errands_has_nothing_to_measure():
     assert main([f"{POLICIES}/carried_noplace/best_model.zip", "--n-scenes", "1"]) == 2
 
 
-def test_the_table_groups_errands_in_fifths_of_the_episode():
+def test_the_table_groups_errands_in_quarters_of_the_episode():
     errors = np.array([0.1, 0.3, 1.0, 2.0])
     text = table({"a": (errors, np.array([0, 1, 2, 3]))}, errands=4)
     assert text.splitlines()[0].startswith("| policy | errands 1–1 | errands 2–2")

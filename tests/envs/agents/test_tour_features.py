@@ -87,7 +87,6 @@ def test_each_agent_sees_what_the_one_before_sees_and_more(features):
     assert np.array_equal(place[:, N_BASE:], oracle[:, N_BASE:N_BASE + N_PLACE])
     assert np.array_equal(place[0], oracle[0, :N_BASE + N_PLACE])
     # with a recognizer right about every room, the place is the room
-    oracle = runs["oracle"]
     assert np.allclose(oracle[:, N_BASE:N_BASE + N_PLACE], oracle[:, N_BASE + N_PLACE:])
 
 
