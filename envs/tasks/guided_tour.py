@@ -34,7 +34,11 @@ from gymnasium import spaces
 from placeclust.metrics import score
 from placeclust.protocol import reads_images, resolve
 
+from ..world.conditions import CONDITION_KEYS, CONDITIONS
+from ..world.layout import FloorPlan
+from ..world.robot import RADIUS
 from .goals import GoalRoom, NavTask
+from .oracles import BoundTrueRooms, TrueRooms
 from .place_id import PlaceIdWrapper, Recognizer
 from .place_nav import PlaceNavEnv
 from .recognizers import make_recognizer
@@ -98,7 +102,8 @@ class GuidedTourEnv(NavTask, gym.utils.EzPickle):
     ``errands`` (all of them).
 
     ## Arguments
-    ``recognizer`` (a name of :data:`~envs.tasks.recognizers.RECOGNIZERS`, a
+    ``recognizer`` (a name of :data:`~envs.tasks.recognizers.RECOGNIZERS`, a calibration
+    oracle, a
     ``package.module:Class`` of your own or a recognizer object, default ``"panorama"``),
     ``recognizer_params`` (a path's constructor arguments, see
     :func:`~envs.tasks.recognizers.make_recognizer`), ``n_errands`` (5), ``errand_steps``
@@ -108,6 +113,11 @@ class GuidedTourEnv(NavTask, gym.utils.EzPickle):
     ``name_after`` (10), ``min_errand_distance`` (1 m), ``errand_start`` (``"continue"``
     from where the last errand ended, or ``"carried"``), ``max_places`` (64),
     ``success_reward`` (10), ``step_cost`` (0.01), ``shaping`` (1 per metre),
+    ``errand_condition`` (None: the tour's; a name of
+    :data:`~envs.world.conditions.CONDITIONS`, e.g. ``"night"`` or ``"moved"``: the errands run
+    in the same building under it, from the tour's last pose, moved a little if furniture now
+    stands there), ``errand_learn`` (True: the map keeps learning during the errands; False:
+    it only localizes, ``localize_one``, which a recognizer that reads images must have),
     ``observe_image`` (False), ``render_mode``, and any argument of
     ``PlaceNav-v0`` (``scene_seed``, ``n_rooms`` (default 6 here), ``camera``: the forward
     camera for ``nested``, the panorama otherwise).
@@ -121,6 +131,9 @@ class GuidedTourEnv(NavTask, gym.utils.EzPickle):
       ``panorama`` and ``panorama-orb``, after their presets; ``recognizer`` also takes a
       ``package.module:Class`` with ``recognizer_params``; ``errand_start="carried"`` puts
       the robot down at each errand's start (the default continues as before).
+      Since 0.14.0: ``errand_condition`` and ``errand_learn`` (defaults as before), and
+      ``recognizer`` takes the calibration oracles (``oracle-noise:P``, ``oracle-split:K``,
+      ``oracle-merge:P``, :mod:`envs.tasks.oracles`).
     - v0: first version; still registered, as v1 with ``min_errand_distance=0``.
     """
 
@@ -130,7 +143,8 @@ class GuidedTourEnv(NavTask, gym.utils.EzPickle):
                  success_reward: float = 10.0, step_cost: float = 0.01, shaping: float = 1.0,
                  observe_image: bool = False, render_mode: str | None = None, n_rooms: int = 6,
                  recognizer_params: Mapping[str, Any] | None = None,
-                 errand_start: str = "continue", **world: Any) -> None:
+                 errand_start: str = "continue", errand_condition: str | None = None,
+                 errand_learn: bool = True, **world: Any) -> None:
         # pickle and deepcopy rebuild the env from its arguments, as PlaceNav-v0 does
         gym.utils.EzPickle.__init__(
             self, recognizer=recognizer, recognizer_params=recognizer_params,
@@ -139,7 +153,8 @@ class GuidedTourEnv(NavTask, gym.utils.EzPickle):
             min_errand_distance=min_errand_distance, max_places=max_places,
             success_reward=success_reward, step_cost=step_cost, shaping=shaping,
             observe_image=observe_image, render_mode=render_mode, n_rooms=n_rooms,
-            errand_start=errand_start, **world)
+            errand_start=errand_start, errand_condition=errand_condition,
+            errand_learn=errand_learn, **world)
         if n_errands < 1 or errand_steps < 1 or tour_steps_per_room < 1 or name_after < 1:
             raise ValueError("n_errands, errand_steps, tour_steps_per_room and name_after must "
                              f"be positive, got {n_errands}, {errand_steps}, "
@@ -155,9 +170,15 @@ class GuidedTourEnv(NavTask, gym.utils.EzPickle):
         if recognizer_params and not isinstance(recognizer, str):
             raise ValueError("recognizer_params go with a package.module:Class recognizer, "
                              "not with a recognizer object")
-        model = (make_recognizer(recognizer, n_rooms, max_places, recognizer_params)
+        if errand_condition is not None and errand_condition not in CONDITIONS:
+            raise ValueError(f"unknown errand_condition {errand_condition!r}; choose one of "
+                             f"{sorted(CONDITIONS)} or None (the tour's)")
+        built = (make_recognizer(recognizer, n_rooms, max_places, recognizer_params)
                  if isinstance(recognizer, str) else recognizer)
-        self.oracle = model is None
+        #: the true rooms (``oracle`` and its calibration family), or None for a recognizer
+        self.truth: TrueRooms | None = built if isinstance(built, TrueRooms) else None
+        self._truth: BoundTrueRooms | None = None
+        model = None if isinstance(built, TrueRooms) else built
         world.setdefault("camera", "forward" if recognizer == "nested" else "panorama")
         # a recognizer that reads no images (random, none) gets none rendered: the same ids
         looks = model is not None and reads_images(model)
@@ -165,8 +186,17 @@ class GuidedTourEnv(NavTask, gym.utils.EzPickle):
                           panorama=looks or observe_image, **world)
         self._place_ids = None if model is None else PlaceIdWrapper(
             nav, model, max_places=max_places, learn=True, reset_map=True)
+        if self._place_ids is not None and not errand_learn and self._place_ids.reads_images:
+            self._place_ids.check_localizes()  # a ValueError before any tour is driven
         self._env: gym.Env = nav if self._place_ids is None else self._place_ids
-        self.nav = nav
+        self.nav = self.tour_nav = nav
+        # the errands' world: the same building under another condition, built once
+        self.errand_nav = nav if errand_condition is None else PlaceNavEnv(
+            n_rooms=n_rooms, render_mode=render_mode, panorama=looks or observe_image,
+            **{k: v for k, v in world.items() if k not in CONDITION_KEYS},
+            **CONDITIONS[errand_condition])
+        self.errand_condition, self.errand_learn = errand_condition, errand_learn
+        self._place = -1  # the raw place of the current frame
         self.render_mode = render_mode
         self.n_errands, self.errand_steps = n_errands, errand_steps
         self.tour_steps_per_room, self.name_after = tour_steps_per_room, name_after
@@ -190,6 +220,11 @@ class GuidedTourEnv(NavTask, gym.utils.EzPickle):
         self._room = 0  # the last room the robot was in (a doorway is in none)
 
     @property
+    def oracle(self) -> bool:
+        """Whether the place ids are the true rooms' (``oracle`` or a calibration oracle)."""
+        return self.truth is not None
+
+    @property
     def tour_rooms(self) -> np.ndarray:
         """The true room of each step of the last tour (-1 in a doorway): ground truth, for
         scoring and for agents that are given it (the oracle), never in the observation."""
@@ -210,6 +245,9 @@ class GuidedTourEnv(NavTask, gym.utils.EzPickle):
         if goals is not None:
             for name in goals:
                 self.plan.room_by_name(name)  # a KeyError naming the rooms, before the tour
+        self._use(self.tour_nav, learn=True)
+        if self.truth is not None:
+            self._truth = self.truth.bind(self.plan, int(self.np_random.integers(2**31)))
         tour, obs, info = self._guided_tour(int(self.np_random.integers(2**31)))
         self._named = tour.heard_names()
         if goals is not None:
@@ -219,6 +257,8 @@ class GuidedTourEnv(NavTask, gym.utils.EzPickle):
                                  f"guide named {self._named}")
         self._goals = list(goals) if goals is not None else []
         self._errands, self._over = [], False
+        if self.errand_nav is not self.tour_nav or not self.errand_learn:
+            obs, info = self._change_condition(info["pose"])
         self._pose = info["pose"]
         obs, info = self._start_errand(obs, info)
         return self._observation(obs, info), {
@@ -230,6 +270,7 @@ class GuidedTourEnv(NavTask, gym.utils.EzPickle):
         if self._over:
             raise RuntimeError("the episode is over; call reset()")
         obs, _, _, _, info = self._env.step(action)
+        self._read_place(info)
         errand = self._errands[-1]
         errand.steps += 1
         errand.path += math.dist(self._pose[:2], info["pose"][:2])
@@ -251,6 +292,32 @@ class GuidedTourEnv(NavTask, gym.utils.EzPickle):
 
     def close(self) -> None:
         self._env.close()
+        if self.errand_nav is not self.tour_nav:
+            self.errand_nav.close()
+
+    # -- the condition ---------------------------------------------------------------------
+
+    def _use(self, nav: PlaceNavEnv, learn: bool) -> None:
+        """Run on ``nav`` from now on, the recognizer learning or only localizing."""
+        self.nav = nav
+        if self._place_ids is None:
+            self._env = nav
+        else:
+            self._place_ids.env = nav
+            # one that reads no images has no map to fix: its ids go on as they were
+            self._place_ids.learn = learn or not self._place_ids.reads_images
+
+    def _change_condition(self, pose: np.ndarray) -> tuple[dict[str, Any], dict[str, Any]]:
+        """Move to the errands' world at the tour's last pose; the frame seen there, under the
+        errands' condition, and its place (the map is the tour's, still learning or not)."""
+        self._use(self.errand_nav, learn=self.errand_learn)
+        obs, info = self.nav.reset(seed=int(self.np_random.integers(2**31)),
+                                   options={"pose": clear_pose(self.nav.plan, pose)})
+        if self._place_ids is not None:
+            obs = self._place_ids.observation(obs)
+            info = {**info, **self._place_ids.last_info}
+        self._read_place(info)
+        return obs, info
 
     # -- the tour --------------------------------------------------------------------------
 
@@ -258,7 +325,7 @@ class GuidedTourEnv(NavTask, gym.utils.EzPickle):
         """Drive the tour, naming each room ``name_after`` steps after first entering it."""
         n_rooms = len(self.plan.rooms)
         planned = self.tour_steps_per_room * n_rooms
-        places, heard, odometry, heading, rooms = [], [], [], [], []
+        places, heard, odometry, heading, ranges, rooms = [], [], [], [], [], []
         named: set[int] = set()
         run, last_room = 0, -1
         for t, (obs, info) in enumerate(tour_steps(self._env, 3 * planned, seed=tour_seed)):
@@ -271,10 +338,11 @@ class GuidedTourEnv(NavTask, gym.utils.EzPickle):
             if room >= 0 and room not in named and run >= self.name_after:
                 named.add(room)
                 say = self.plan.rooms[room].name
-            places.append(self._raw_place(info))
+            places.append(self._read_place(info))
             heard.append(say)
             odometry.append(obs["odometry"])
             heading.append(obs["heading"])
+            ranges.append(obs["ranges"])
             rooms.append(room)
             if t + 1 >= planned and len(named) == n_rooms:
                 break
@@ -283,7 +351,8 @@ class GuidedTourEnv(NavTask, gym.utils.EzPickle):
             ids = resolve(self.recognizer, ids)
         self._tour_rooms = np.array(rooms)
         record = TourRecord(ids, np.array(heard, dtype=object), np.array(odometry),
-                            np.array(heading), self.nav.model.opt.timestep * self.nav.n_substeps)
+                            np.array(heading), self.nav.model.opt.timestep * self.nav.n_substeps,
+                            np.array(ranges))
         return record, obs, info
 
     def _map_scores(self, tour: TourRecord, rooms: np.ndarray) -> dict[str, float]:
@@ -326,6 +395,9 @@ class GuidedTourEnv(NavTask, gym.utils.EzPickle):
                 break
         if self._place_ids is not None:  # the recognizer sees the new start, lost
             obs, info = self._place_ids.relocated(obs, info)
+        if self._truth is not None:
+            self._truth.reset_position()
+        self._read_place(info)
         return obs, info
 
     def _draw_goal(self, pose: Sequence[float], room: int) -> tuple[str, bool]:
@@ -346,11 +418,17 @@ class GuidedTourEnv(NavTask, gym.utils.EzPickle):
             self._room = info["room_id"]
         return self._room
 
-    def _raw_place(self, info: dict[str, Any]) -> int:
-        return int(info["room_id"] if self.oracle else info["place_id"])
+    def _read_place(self, info: dict[str, Any]) -> int:
+        """The raw place of the frame ``info`` describes (-1 unknown), read once per frame: a
+        noisy oracle draws as it answers."""
+        if self._truth is not None:
+            self._place = self._truth.place(info["room_id"], info["pose"])
+        else:
+            self._place = int(info["place_id"])
+        return self._place
 
     def _observation(self, obs: dict[str, Any], info: dict[str, Any]) -> dict[str, Any]:
-        raw = self._raw_place(info)
+        raw = self._place
         place = raw if 0 <= raw < self.max_places else self.max_places
         out = {"place_id": np.int64(place), "goal": self._errands[-1].goal}
         keys = [k for k in self.observation_space.spaces if k not in out]
@@ -358,5 +436,26 @@ class GuidedTourEnv(NavTask, gym.utils.EzPickle):
 
     def _step_info(self, info: dict[str, Any]) -> dict[str, Any]:
         return {"errand": len(self._errands) - 1, "goal": self._errands[-1].goal,
-                "place_id": self._raw_place(info), "room_id": info["room_id"],
+                "place_id": self._place, "room_id": info["room_id"],
                 "pose": info["pose"]}
+
+
+def clear_pose(plan: FloorPlan, pose: Sequence[float] | np.ndarray, clearance: float = RADIUS + 0.05
+               ) -> tuple[float, float, float]:
+    """``pose``, or where furniture moved onto it since, the nearest pose of the same room
+    (within 2 m) that clears it: the robot stays where the tour left it, not inside a desk."""
+    x, y, yaw = (float(v) for v in pose)
+
+    def clear(px: float, py: float) -> bool:
+        return all(abs(px - f.x) > f.hx + clearance or abs(py - f.y) > f.hy + clearance
+                   for f in plan.furniture)
+
+    if clear(x, y):
+        return x, y, yaw
+    room = plan.room_at(x, y)
+    for r in np.arange(0.1, 2.0, 0.1):
+        for a in np.linspace(0.0, 2 * math.pi, 16, endpoint=False):
+            px, py = x + r * math.cos(a), y + r * math.sin(a)
+            if plan.room_at(px, py) == room and plan.is_free(px, py, clearance):
+                return float(px), float(py), yaw
+    return x, y, yaw

@@ -95,10 +95,9 @@ class PlaceIdWrapper(gym.ObservationWrapper, gym.utils.RecordConstructorArgs):
             raise ValueError(f"max_places must be at least 1, got {max_places}")
         if recognizer is None:
             recognizer = OnlinePlaceClustering("orb", max_places=max_places)
-        if not learn and not can_localize(recognizer):
-            raise ValueError(f"learn=False needs a recognizer with localize_one(); "
-                             f"{type(recognizer).__name__} has none")
         self.recognizer = recognizer
+        if not learn:
+            self.check_localizes()
         self._initial = copy.deepcopy(recognizer) if reset_map else None
         self.max_places = max_places
         self.unknown = max_places
@@ -126,6 +125,19 @@ class PlaceIdWrapper(gym.ObservationWrapper, gym.utils.RecordConstructorArgs):
              ) -> tuple[dict[str, Any], SupportsFloat, bool, bool, dict[str, Any]]:
         obs, reward, terminated, truncated, info = super().step(action)
         return obs, reward, terminated, truncated, {**info, **self._last}
+
+    @property
+    def last_info(self) -> dict[str, Any]:
+        """What the last observation added to ``info``: ``place_id``, ``n_places``,
+        ``map_full``."""
+        return dict(self._last)
+
+    def check_localizes(self) -> None:
+        """A ``ValueError`` unless the recognizer can localize on a fixed map
+        (``localize_one``), as ``learn = False`` needs."""
+        if not can_localize(self.recognizer):
+            raise ValueError(f"learn=False needs a recognizer with localize_one(); "
+                             f"{type(self.recognizer).__name__} has none")
 
     def relocated(self, observation: dict[str, Any], info: dict[str, Any]
                   ) -> tuple[dict[str, Any], dict[str, Any]]:

@@ -17,12 +17,15 @@ from typing import Any
 from placeclust import PANORAMA, PANORAMA_ORB, OnlinePlaceClustering
 from placeclust.nested import NestedMapper
 from placeclust.null import NoPlaces, RandomPlaces
-from placeclust.protocol import is_offline
+from placeclust.protocol import can_localize, is_offline, reads_images
 from placeclust.runner import check_params, make, recognizer_class
 
+from .oracles import TrueRooms, is_oracle_name, parse_oracle
 from .place_id import Recognizer
 
-#: recognizers by name: ``oracle`` gives the true room (the upper bound); ``panorama`` is seed
+#: recognizers by name: ``oracle`` gives the true room (the upper bound; its calibration family
+#: ``oracle-noise:P``, ``oracle-split:K``, ``oracle-merge:P`` errs by a known amount,
+#: :mod:`envs.tasks.oracles`); ``panorama`` is seed
 #: 000's online recognizer in its 360° configuration with SIFT (the preset ``panorama``,
 #: :data:`placeclust.PANORAMA`), ``panorama-orb`` in ORB's (the preset ``panorama-orb``,
 #: :data:`placeclust.PANORAMA_ORB`, with ORB); ``nested`` seed 001 on the forward camera;
@@ -33,14 +36,22 @@ RECOGNIZERS = ("oracle", "panorama", "panorama-orb", "nested", "random", "none")
 RENAMED = {"online": "panorama", "online-orb": "panorama-orb"}
 
 
+def is_own(name: str) -> bool:
+    """Whether ``name`` is a ``package.module:Class`` of the user's, not a built-in name (the
+    calibration family's names have a colon too: ``oracle-noise:0.05``)."""
+    return ":" in name and not is_oracle_name(name)
+
+
 def make_recognizer(name: str, n_rooms: int, max_places: int = 64,
-                    params: Mapping[str, Any] | None = None) -> Recognizer | None:
-    """A fresh recognizer for the closed loop (``None`` for ``oracle``, the true rooms).
+                    params: Mapping[str, Any] | None = None) -> Recognizer | TrueRooms:
+    """A fresh recognizer for the closed loop: a :class:`~envs.tasks.oracles.TrueRooms` for
+    ``oracle`` and its calibration family (the env binds it to the building).
 
     Args:
-        name: one of :data:`RECOGNIZERS`, or ``package.module:Class``, an online recognizer of
-            your own (``learn_predict_one``, ``n_places``, ``graph``; see
-            :mod:`placeclust.checks`), loaded as ``placeclust cluster --algo`` loads it.
+        name: one of :data:`RECOGNIZERS`, an ``oracle-<kind>:<value>`` (a calibration
+            oracle), or ``package.module:Class``, an online recognizer of your own
+            (``learn_predict_one``, ``n_places``, ``graph``; see :mod:`placeclust.checks`),
+            loaded as ``placeclust cluster --algo`` loads it.
         n_rooms: the building's rooms (``random`` draws ids from twice as many).
         max_places: the cap of ``panorama`` and ``panorama-orb``'s maps.
         params: a module path's constructor arguments (``features`` included). A name is one
@@ -52,14 +63,14 @@ def make_recognizer(name: str, n_rooms: int, max_places: int = 64,
             or parameters with a name.
     """
     params = dict(params or {})
-    if ":" in name:
+    if is_own(name):
         return _own_recognizer(name, params)
     check_recognizer_name(name)
     if params:
         raise ValueError(f"{name!r} is one configuration and takes no parameters, got "
                          f"{sorted(params)}; give package.module:Class with them instead")
-    if name == "oracle":
-        return None
+    if is_oracle_name(name):
+        return parse_oracle(name)
     if name == "panorama":
         return OnlinePlaceClustering("sift", **PANORAMA, max_places=max_places)
     if name == "panorama-orb":
@@ -89,9 +100,22 @@ def check_recognizer_name(name: str) -> None:
     a ``package.module:Class`` that loads."""
     if name in RECOGNIZERS:
         return
+    if is_oracle_name(name):
+        parse_oracle(name)  # a value out of range
+        return
+    if name.startswith("oracle-"):
+        parse_oracle(name)  # names the family's form
     if ":" in name:
         recognizer_class(name)
         return
     hint = f" ('{name}' was renamed '{RENAMED[name]}' in 0.13.0)" if name in RENAMED else ""
-    raise ValueError(f"unknown recognizer {name!r}; choose one of {RECOGNIZERS} or give "
+    raise ValueError(f"unknown recognizer {name!r}; choose one of {RECOGNIZERS}, "
+                     f"oracle-noise:P, oracle-split:K, oracle-merge:P or give "
                      f"package.module:Class{hint}")
+
+
+def localizes(name: str, params: Mapping[str, Any] | None = None) -> bool:
+    """Whether recognizer ``name`` can run on a fixed map (``errand_learn=False``): it has
+    ``localize_one``, or it reads no images (no map to fix), or it is the true rooms."""
+    model = make_recognizer(name, 6, params=params)
+    return isinstance(model, TrueRooms) or not reads_images(model) or can_localize(model)

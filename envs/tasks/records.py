@@ -20,6 +20,7 @@ class TourRecord:
         odometry: (T, 2) float32, measured forward speed (m/s) and turn rate (rad/s).
         heading: (T, 2) float32, compass (cos, sin).
         control_dt: seconds per step.
+        ranges: (T, 16) float32, the rangefinders' readings (m), or None where not recorded.
     """
 
     place_id: np.ndarray
@@ -27,6 +28,7 @@ class TourRecord:
     odometry: np.ndarray
     heading: np.ndarray
     control_dt: float
+    ranges: np.ndarray | None = None
 
     def heard_names(self) -> list[str]:
         """The room names the guide said, in the order said."""
@@ -37,7 +39,9 @@ class TourRecord:
             return NotImplemented
         return self.control_dt == other.control_dt and all(
             np.array_equal(getattr(self, k), getattr(other, k))
-            for k in ("place_id", "heard", "odometry", "heading"))
+            for k in ("place_id", "heard", "odometry", "heading")) and (
+            (self.ranges is None) == (other.ranges is None)) and (
+            self.ranges is None or np.array_equal(self.ranges, np.asarray(other.ranges)))
 
 
 @dataclass

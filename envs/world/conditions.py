@@ -51,6 +51,12 @@ CONDITIONS: Mapping[str, dict[str, Any]] = MappingProxyType({
 })
 
 
+#: the ``PlaceNav-v0`` keyword arguments a condition sets: a world under another condition is the
+#: same world with these replaced
+CONDITION_KEYS = frozenset({"lighting", "furniture_moved", "furniture_removed", "posters_swapped",
+                            "camera_noise", "camera_blur", "changes_seed"})
+
+
 def check_lighting(lighting: str) -> None:
     """A ``ValueError`` naming the lightings if ``lighting`` is not one of :data:`LIGHTING`."""
     if lighting not in LIGHTS:

@@ -7,6 +7,7 @@ import numpy as np
 import pytest
 
 from envs.tasks.goals import GoalRoom
+from envs.tasks.oracles import TrueRooms
 from envs.tasks.recognizers import check_recognizer_name, make_recognizer
 from envs.world.layout import generate_floor_plan
 
@@ -48,6 +49,6 @@ def test_the_closed_loops_recognizers_have_one_name_each():
         check_recognizer_name("online")
     with pytest.raises(ValueError, match="unknown recognizer 'psychic'"):
         make_recognizer("psychic", n_rooms=4)
-    assert make_recognizer("oracle", n_rooms=4) is None
+    assert make_recognizer("oracle", n_rooms=4) == TrueRooms()  # the env binds it to a building
     panorama = make_recognizer("panorama", n_rooms=4)
     assert panorama.features == "sift" and panorama.scene_change == 0.25

@@ -145,3 +145,52 @@ def test_carrying_needs_two_rooms_and_a_known_start():
         GuidedTourEnv(recognizer="oracle", n_rooms=3, errand_start="teleport")
     with pytest.raises(ValueError, match="at least 2 rooms"):
         GuidedTourEnv(recognizer="oracle", n_rooms=1, errand_start="carried")
+
+
+def test_errands_under_another_condition_see_it_from_their_first_frame(make_tour):
+    small = {"panorama_width": 64, "panorama_height": 16, "observe_image": True}
+    day = make_tour(recognizer="oracle", **small)
+    night = make_tour(recognizer="oracle", errand_condition="night", **small)
+    (o_day, i_day), (o_night, i_night) = day.reset(seed=2), night.reset(seed=2)
+    # the same tour, the same map and goals: only the errands' world differs
+    assert np.array_equal(i_day["tour"].place_id, i_night["tour"].place_id)
+    assert o_day["goal"] == o_night["goal"]
+    assert np.allclose(i_day["pose"], i_night["pose"], atol=1e-6)
+    task = night.unwrapped
+    assert task.nav is task.errand_nav and task.nav.scene.lighting == "night"
+    assert o_night["panorama"].mean() < 0.8 * o_day["panorama"].mean()
+    night.step(np.zeros(2, np.float32))
+    night.reset(seed=3)  # the next tour is under the tour's light again
+    assert task.tour_nav.scene.lighting == "day"
+
+
+def test_moved_furniture_moves_the_obstacles_and_clears_the_robot(make_tour):
+    env = make_tour(recognizer="oracle", errand_condition="moved")
+    env.reset(seed=0)
+    task = env.unwrapped
+    tour, errands = task.tour_nav.plan.furniture, task.errand_nav.plan.furniture
+    assert len(errands) < len(tour) or errands != tour  # moved and removed
+    x, y, _ = task.nav.robot.pose(task.nav.data)
+    assert all(abs(x - f.x) > f.hx or abs(y - f.y) > f.hy for f in errands)
+
+
+def test_a_map_that_only_localizes_keeps_its_places(make_tour):
+    env = make_tour(recognizer="placeclust.online:OnlinePlaceClustering",
+                    recognizer_params={"features": "orb"}, errand_learn=False,
+                    errand_condition="cloudy", panorama_width=128, panorama_height=32)
+    _, info = env.reset(seed=0)
+    n = env.unwrapped.recognizer.n_places
+    done = False
+    while not done:
+        _, _, done, _, info = env.step(np.array([0.6, 0.3], np.float32))
+    assert env.unwrapped.recognizer.n_places == n
+    assert not env.unwrapped._place_ids.learn
+
+
+def test_conditions_and_learning_are_checked_before_the_tour():
+    with pytest.raises(ValueError, match="unknown errand_condition 'dusk'"):
+        GuidedTourEnv(recognizer="oracle", n_rooms=3, errand_condition="dusk")
+    with pytest.raises(ValueError, match="localize_one"):
+        GuidedTourEnv(recognizer="examples.tiny_recognizer:HaarPlaces", n_rooms=3,
+                      errand_learn=False)
+    GuidedTourEnv(recognizer="random", n_rooms=3, errand_learn=False).close()  # no map to fix
