@@ -118,6 +118,7 @@ class TourPlanner:
     def act(self, obs: dict[str, np.ndarray]) -> np.ndarray:
         """The action for one step of an errand."""
         self._dead_reckon(obs)
+        self._check_pose(obs)
         place = int(obs["place_id"])
         if obs["goal"] != self._goal:  # a new errand: nothing left behind yet
             self._goal, self._passed = str(obs["goal"]), deque(maxlen=PASSED)
@@ -148,6 +149,9 @@ class TourPlanner:
             return steer(obs["heading"], obs["ranges"], None, self.rng)
         action = self._controller.action(np.array([*self.pos, self.yaw]))
         return guard(np.clip(action, -1.0, 1.0), obs["ranges"]).astype(np.float32)
+
+    def _check_pose(self, obs: dict[str, np.ndarray]) -> None:
+        """Where a subclass corrects the dead-reckoned pose before acting; this one trusts it."""
 
     @property
     def exploring(self) -> bool:
