@@ -246,9 +246,10 @@ class GuidedTourEnv(NavTask, gym.utils.EzPickle):
             for name in goals:
                 self.plan.room_by_name(name)  # a KeyError naming the rooms, before the tour
         self._use(self.tour_nav, learn=True)
-        if self.truth is not None:
-            self._truth = self.truth.bind(self.plan, int(self.np_random.integers(2**31)))
-        tour, obs, info = self._guided_tour(int(self.np_random.integers(2**31)))
+        tour_seed = int(self.np_random.integers(2**31))
+        if self.truth is not None:  # seeded by the tour: the episode's stream stays v1's
+            self._truth = self.truth.bind(self.plan, tour_seed)
+        tour, obs, info = self._guided_tour(tour_seed)
         self._named = tour.heard_names()
         if goals is not None:
             unheard = [g for g in goals if g not in self._named]
