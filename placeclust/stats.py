@@ -33,7 +33,7 @@ from __future__ import annotations
 
 import math
 import warnings
-from collections.abc import Sequence
+from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass
 
 import numpy as np
@@ -171,6 +171,88 @@ def probability_of_improvement(a: Groups, b: Groups, confidence: float = CONFIDE
     ones = np.ones_like(per_building)
     point = float(per_building.mean())
     return _bootstrap((per_building, ones), _ratio, point, seed, confidence, n_resamples)
+
+
+def _stratified(per_track: Sequence[Callable[[np.ndarray], np.ndarray]], sizes: Sequence[int],
+                combine: Callable[[np.ndarray], np.ndarray], point: float, confidence: float,
+                n_resamples: int, seed: int) -> Estimate:
+    """A percentile bootstrap stratified by track: each track's buildings resampled on their
+    own (``per_track[t](indices)`` gives the track's figure for each resample's indices), the
+    tracks' figures then combined row by row."""
+    n = min(sizes)
+    if n < 2:
+        return Estimate(point, math.nan, math.nan, n, confidence)
+    rng = np.random.default_rng(seed)
+    table = np.stack([fn(rng.integers(size, size=(n_resamples, size)))
+                      for fn, size in zip(per_track, sizes, strict=True)], axis=1)
+    low, high = np.quantile(combine(table), [(1 - confidence) / 2, (1 + confidence) / 2])
+    return Estimate(point, float(min(low, point)), float(max(high, point)), n, confidence)
+
+
+#: how :func:`suite_score` combines the tracks' normalized scores
+AGGREGATES = ("mean", "iqm")
+
+
+def _combine(aggregate: str) -> Callable[[np.ndarray], np.ndarray]:
+    if aggregate not in AGGREGATES:
+        raise ValueError(f"unknown aggregate {aggregate!r}; choose one of {AGGREGATES}")
+    if aggregate == "iqm":  # rliable's interquartile mean: a quarter trimmed at each end
+        return lambda table: stats.trim_mean(table, 0.25, axis=-1)
+    return lambda table: np.mean(table, axis=-1)
+
+
+def suite_score(tracks: Mapping[str, Groups], floors: Mapping[str, float],
+                ceilings: Mapping[str, float], against: Mapping[str, Groups] | None = None,
+                aggregate: str = "mean", confidence: float = CONFIDENCE,
+                n_resamples: int = N_RESAMPLES, seed: int = 0) -> Estimate:
+    """One score over tracks in rliable's manner (Agarwal et al. 2021): each track's mean
+    normalized between its floor (0, e.g. no place ids) and its ceiling (1, the true rooms),
+    then the mean or interquartile mean (``aggregate``) over tracks, with a bootstrap interval
+    stratified by track that resamples each track's buildings. The floors and ceilings are
+    taken as fixed, as rliable's are.
+
+    Args:
+        tracks: per track, one sequence of values per building (as :func:`interval`'s).
+        floors, ceilings: per track, the scores that map to 0 and 1.
+        against: another recognizer's ``tracks`` on the same buildings in the same order: the
+            score is then the paired difference, this one's minus that one's.
+        aggregate: one of :data:`AGGREGATES`.
+
+    Returns:
+        The :class:`Estimate`; ``n_buildings`` is the smallest track's count.
+
+    Raises:
+        ValueError: a track without a floor and a ceiling apart, or tracks that differ between
+            the two recognizers.
+    """
+    combine = _combine(aggregate)
+    names = sorted(tracks)
+    if against is not None and sorted(against) != names:
+        raise ValueError(f"paired tracks differ: {names} against {sorted(against)}")
+    for t in names:
+        if t not in floors or t not in ceilings or not ceilings[t] != floors[t]:
+            raise ValueError(f"track {t!r} needs a floor and a ceiling that differ, got "
+                             f"{floors.get(t)} and {ceilings.get(t)}")
+    per_track, sizes, points = [], [], []
+    for t in names:
+        sides = [tracks[t]] if against is None else [tracks[t], against[t]]
+        if against is not None:
+            _paired(*sides)
+        arrays = [_arrays(g, t) for g in sides]
+        sums = [np.array([x.sum() for x in a]) for a in arrays]
+        counts = [np.array([x.size for x in a], float) for a in arrays]
+        lo, span = floors[t], ceilings[t] - floors[t]
+
+        def figure(idx: np.ndarray | slice, sums=sums, counts=counts, lo=lo, span=span
+                   ) -> np.ndarray:
+            norm = [(_ratio(s[idx], c[idx]) - lo) / span for s, c in zip(sums, counts)]
+            return norm[0] if len(norm) == 1 else norm[0] - norm[1]
+
+        per_track.append(figure)
+        sizes.append(len(arrays[0]))
+        points.append(float(figure(slice(None))))
+    point = float(combine(np.array(points)))
+    return _stratified(per_track, sizes, combine, point, confidence, n_resamples, seed)
 
 
 def buildings_for(groups: Groups, half_width: float, confidence: float = CONFIDENCE) -> int:

@@ -252,8 +252,8 @@ def build_parser() -> argparse.ArgumentParser:
 
 
 #: subcommands that are commands of their own, with their own options (``placeclust NAME -h``):
-#: name -> (module with ``main(argv, prog)``, relative to this package if it starts with a dot,
-#: help)
+#: name -> (module with ``main(argv, prog)``, or ``module:function`` for another function of
+#: that signature, relative to this package if it starts with a dot; help)
 COMMANDS = {
     "leaderboard": (".leaderboard", "rank recognizers by errand success after a guided tour of "
                     "buildings never seen (the closed loop)"),
@@ -261,6 +261,8 @@ COMMANDS = {
                 "of a split"),
     "compare": (".compare", "two recognizers' results paired on the same buildings: the "
                 "differences with their intervals"),
+    "score": (".compare:score_main", "one suite score over closed-loop tracks, normalized "
+              "between no ids and the true rooms, with paired comparisons"),
     "seed001": (".seed001", "seed 001's experiment on its paper's forward camera"),
     "longrun": (".longrun", "the online recognizer in the loop for many steps"),
     "speed": (".speed", "the simulator's steps per second against a bare render"),
@@ -272,8 +274,10 @@ COMMANDS = {
 def main(argv: list[str] | None = None) -> None:
     argv = sys.argv[1:] if argv is None else list(argv)
     if argv and argv[0] in COMMANDS:
-        module = importlib.import_module(COMMANDS[argv[0]][0], __package__)
-        raise SystemExit(module.main(argv[1:], prog=f"placeclust {argv[0]}"))
+        path, _, function = COMMANDS[argv[0]][0].partition(":")
+        module = importlib.import_module(path, __package__)
+        command = getattr(module, function or "main")
+        raise SystemExit(command(argv[1:], prog=f"placeclust {argv[0]}"))
     args = build_parser().parse_args(argv)
     args.command_line = shlex.join(["placeclust", *argv])
     try:

@@ -44,19 +44,35 @@ from placeclust.runner import preset_params, recognizer_class
 
 from ..agents import hints
 from ..agents.learned import LearnedAgent, config_path
+from ..agents.relocalize import RelocalizingPlanner
 from ..agents.teach_repeat import TourPlanner
 from ..tasks.guided_tour import ERRAND_STARTS
-from ..tasks.recognizers import RECOGNIZERS, check_recognizer_name, make_recognizer
+from ..tasks.recognizers import (
+    RECOGNIZERS,
+    check_recognizer_name,
+    is_own,
+    localizes,
+    make_recognizer,
+)
 from ..world.scene import LAYOUTS
 from ..world.splits import add_scope_arguments, scope_seeds
 from ..world.textures import ASSETS
 from .pool import run_all
 from .results import interval_text, policy_name, summarize, write_results
 from .store import RunStore
-from .suite import library_versions, provenance, render_fingerprint, sources_fingerprint
+from .suite import (
+    TRACKS,
+    library_versions,
+    provenance,
+    render_fingerprint,
+    sources_fingerprint,
+    track_task,
+)
 
-#: agents that run errands on a guided tour's map; ``planner`` is the best
-ERRAND_AGENTS = ("planner", "ppo", "random")
+#: agents that run errands on a guided tour's map: ``planner`` (teach and repeat, v1's),
+#: ``relocalizer`` (the planner that finds where it is again on the tour's scans: carried
+#: errands, changed worlds), a learned ``ppo`` policy, ``random`` actions
+ERRAND_AGENTS = ("planner", "relocalizer", "ppo", "random")
 #: the shipped errand policy (``make train-errands``), package data of the wheel too
 POLICY = ASSETS / "policies" / "errands" / "ppo_errands.zip"
 
@@ -115,7 +131,8 @@ def _agent(kind: str, env: gym.Env, info: dict, obs: dict, seed: int):
     if kind == "random":
         rng = np.random.default_rng(seed)
         return lambda _obs: rng.uniform(-1, 1, 2).astype(np.float32)
-    planner = TourPlanner(unknown=hints.unknown_place(env), seed=seed)
+    kind_of = RelocalizingPlanner if kind == "relocalizer" else TourPlanner
+    planner = kind_of(unknown=hints.unknown_place(env), seed=seed)
     planner.reset(info["tour"], obs)
     return planner.act
 
@@ -133,7 +150,7 @@ def check_closed_loop_recognizer(name: str, params: dict[str, Any] | None = None
         ValueError: what is wrong, in one line.
     """
     make_recognizer(name, 6, params=params)
-    if ":" in name:
+    if is_own(name):
         try:
             check_recognizer(recognizer_class(name), params)
         except AssertionError as exc:
@@ -148,7 +165,7 @@ def job_fingerprint(job: dict[str, Any]) -> str:
     library versions and render fingerprint (:func:`run_jobs`): an edit anywhere a result
     could come from, within one version of placeclust, runs the job again."""
     sources = [Path(__file__)]
-    if ":" in job.get("recognizer", ""):
+    if is_own(job.get("recognizer", "")):
         sources.append(Path(inspect.getfile(recognizer_class(job["recognizer"]))))
     if job["agent"] == "ppo":
         policy = Path(job.get("policy") or POLICY)
@@ -263,6 +280,42 @@ def tour_task(steps_per_room: int, errand_start: str = "continue", layout: str =
     return task
 
 
+def add_task_arguments(p: argparse.ArgumentParser) -> None:
+    """The options that say which errands run: ``--tour-steps-per-room``, ``--errand-start``,
+    ``--layout``, a named ``--track`` (:mod:`envs.commands.suite`) and ``--localize-only``."""
+    p.add_argument("--tour-steps-per-room", type=int, default=TOUR_STEPS_PER_ROOM,
+                   help="the guided tour's length per room (PlaceNav-GuidedTour-v1's)")
+    p.add_argument("--errand-start", choices=ERRAND_STARTS, default="continue",
+                   help="where each errand starts: where the last ended, or carried to a "
+                   "random room (PlaceNav-GuidedTour-v1's errand_start)")
+    p.add_argument("--layout", choices=LAYOUTS, default="grid",
+                   help="the buildings: rooms of random sizes, or identical offices along a "
+                   "corridor (--rooms counts the corridor)")
+    p.add_argument("--track", choices=list(TRACKS), help="a named track's errands "
+                   "(envs.commands.suite): changed-night, carried, corridor...")
+    p.add_argument("--localize-only", action="store_true", help="the map is the tour's and "
+                   "stays fixed during the errands (localize_one); recognizers without it are "
+                   "skipped")
+
+
+def task_from_args(args: argparse.Namespace) -> dict[str, Any]:
+    """The ``PlaceNav-GuidedTour-v1`` arguments of :func:`add_task_arguments`' options.
+
+    Raises:
+        ValueError: an option that contradicts the track's own setting of it.
+    """
+    task = tour_task(args.tour_steps_per_room, args.errand_start, args.layout)
+    if args.track:
+        for key, value in track_task(args.track).items():
+            if task.get(key, value) != value:
+                raise ValueError(f"--track {args.track} sets {key}={value!r}; leave out the "
+                                 f"option that sets it to {task[key]!r}")
+            task[key] = value
+    if args.localize_only:
+        task["errand_learn"] = False
+    return task
+
+
 def run_settings(args: argparse.Namespace, seeds: list[int], task: dict[str, Any]
                  ) -> dict[str, Any]:
     """What a results file's ``settings`` say a run measured (``placeclust compare`` pairs
@@ -271,7 +324,7 @@ def run_settings(args: argparse.Namespace, seeds: list[int], task: dict[str, Any
     return {"split": args.split, "scene_seeds": seeds, "rooms": args.rooms,
             "goals": args.goals_per_scene, "seed": args.seed, "agent": args.agent,
             "policy": None if getattr(args, "policy", None) is None else str(args.policy),
-            "task": task}
+            "task": task, **({"track": args.track} if getattr(args, "track", None) else {})}
 
 
 def add_recognizer_arguments(p: argparse.ArgumentParser, many: bool) -> None:
@@ -302,11 +355,11 @@ def recognizer_params(names: list[str], preset: str | None, param: list[str] | N
             of your own to take them.
     """
     given = preset_params(preset, param)
-    own = [n for n in names if ":" in n]
+    own = [n for n in names if is_own(n)]
     if given and not own:
         raise ValueError("--preset and --param are for a package.module:Class recognizer; "
                          f"{names} are built in (their configurations are fixed)")
-    params = {n: dict(given) if ":" in n else {} for n in names}
+    params = {n: dict(given) if is_own(n) else {} for n in names}
     for name in names:
         check_closed_loop_recognizer(name, params[name])
     return params
@@ -324,14 +377,7 @@ def main(argv: list[str] | None = None, prog: str = "placeclust errands") -> int
     p.add_argument("--agent", choices=ERRAND_AGENTS, default="planner")
     p.add_argument("--policy", type=Path, help="the ppo agent's policy (default: shipped)")
     p.add_argument("--goals-per-scene", type=int, default=5)
-    p.add_argument("--tour-steps-per-room", type=int, default=TOUR_STEPS_PER_ROOM,
-                   help="the guided tour's length per room (PlaceNav-GuidedTour-v1's)")
-    p.add_argument("--errand-start", choices=ERRAND_STARTS, default="continue",
-                   help="where each errand starts: where the last ended, or carried to a "
-                   "random room (PlaceNav-GuidedTour-v1's errand_start)")
-    p.add_argument("--layout", choices=LAYOUTS, default="grid",
-                   help="the buildings: rooms of random sizes, or identical offices along a "
-                   "corridor (--rooms counts the corridor)")
+    add_task_arguments(p)
     p.add_argument("--seed", type=int, default=0)
     p.add_argument("--json", type=Path, help="also write the scores here")
     p.add_argument("--workers", type=int, default=1)
@@ -343,7 +389,11 @@ def main(argv: list[str] | None = None, prog: str = "placeclust errands") -> int
                 f"{args.goals_per_scene} and {args.tour_steps_per_room}")
     try:
         params = recognizer_params([args.recognizer], args.preset, args.param)
-        task = tour_task(args.tour_steps_per_room, args.errand_start, args.layout)
+        task = task_from_args(args)
+        if task.get("errand_learn") is False and not localizes(args.recognizer,
+                                                                params[args.recognizer]):
+            raise ValueError(f"{args.recognizer} cannot localize on a fixed map (no "
+                             "localize_one); leave out --localize-only")
         jobs = make_jobs(seeds, [args.recognizer], args.rooms, args.agent,
                          args.goals_per_scene, args.seed, args.policy, params, **task)
         rows = run_jobs(jobs, args.out, args.workers)

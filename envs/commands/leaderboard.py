@@ -39,16 +39,17 @@ from typing import Any
 
 from placeclust.docs_section import write_section
 
+from ..tasks.recognizers import localizes
 from ..world.splits import add_scope_arguments, scope_seeds
 from .closed_loop import (
     ERRAND_AGENTS,
-    TOUR_STEPS_PER_ROOM,
     add_recognizer_arguments,
+    add_task_arguments,
     make_jobs,
     recognizer_params,
     run_jobs,
     run_settings,
-    tour_task,
+    task_from_args,
 )
 from .results import (
     TARGET_HALF_WIDTH,
@@ -58,7 +59,7 @@ from .results import (
     slug,
     write_results,
 )
-from .suite import SIZES, SUITES, get_suite, provenance
+from .suite import SIZES, SUITES, TRACKS, get_suite, provenance
 
 
 def leaderboard(summaries: list[dict[str, Any]]) -> str:
@@ -129,10 +130,14 @@ def _settings(args: argparse.Namespace, p: argparse.ArgumentParser, argv: list[s
         if args.size != "full":
             p.error("--size goes with --suite")
         seeds = scope_seeds(args, p)
-        task = tour_task(args.tour_steps_per_room)
+        try:
+            task = task_from_args(args)
+        except ValueError as e:
+            p.error(str(e))
     else:
         fixed = [o for o in ("--split", "--scene-seeds", "--n-scenes", "--rooms",
-                             "--goals-per-scene", "--seed", "--tour-steps-per-room")
+                             "--goals-per-scene", "--seed", "--tour-steps-per-room",
+                             "--errand-start", "--layout", "--track", "--localize-only")
                  if any(a == o or a.startswith(o + "=") for a in argv)]
         if fixed:
             p.error(f"the suite {args.suite} fixes {' '.join(fixed)}; leave them out, or "
@@ -159,7 +164,7 @@ def main(argv: list[str] | None = None, prog: str = "placeclust leaderboard"
     p.add_argument("--agent", choices=ERRAND_AGENTS, default="planner")
     p.add_argument("--policy", type=Path, help="the ppo agent's policy (default: shipped)")
     p.add_argument("--goals-per-scene", type=int, default=5)
-    p.add_argument("--tour-steps-per-room", type=int, default=TOUR_STEPS_PER_ROOM)
+    add_task_arguments(p)
     p.add_argument("--seed", type=int, default=0)
     p.add_argument("--out", type=Path, default=Path("runs/leaderboard"))
     p.add_argument("--workers", type=int, default=2)
@@ -173,6 +178,15 @@ def main(argv: list[str] | None = None, prog: str = "placeclust leaderboard"
     seeds, settings = _settings(args, p, argv)
     try:
         params = recognizer_params(args.recognizers, args.preset, args.param)
+        skipped = [r for r in args.recognizers if settings["task"].get("errand_learn") is False
+                   and not localizes(r, params[r])]
+        args.recognizers = [r for r in args.recognizers if r not in skipped]
+        if skipped:
+            print(f"skipped, no localize_one to run on a fixed map: {', '.join(skipped)}",
+                  file=sys.stderr)
+        if not args.recognizers:
+            raise ValueError("no recognizer left to run: none of them can localize on a "
+                             "fixed map; leave out --localize-only")
         jobs = make_jobs(seeds, args.recognizers, args.rooms, args.agent,
                          args.goals_per_scene, args.seed, args.policy, params,
                          **settings["task"])
@@ -182,11 +196,15 @@ def main(argv: list[str] | None = None, prog: str = "placeclust leaderboard"
         return 2
     suite = None if args.suite is None else get_suite(args.suite)
     doc = write_results(args.out / "results.json", rows, args.recognizers,
-                        {**settings, "recognizers": args.recognizers},
+                        {**settings, "recognizers": args.recognizers,
+                         **({"skipped": skipped} if skipped else {})},
                         provenance(suite, args.size))
     summaries = doc["summaries"]
     body = (_describe(args, seeds, summaries, doc["provenance"]) + "\n\n"
-            + leaderboard(summaries) + "\n\nSample size: the buildings a sample like this "
+            + leaderboard(summaries)
+            + (f"\n\nSkipped (no `localize_one`, so no fixed map to run on): "
+               f"{', '.join(skipped)}." if skipped else "")
+            + "\n\nSample size: the buildings a sample like this "
             "one needs for each target half-width, from its spread of buildings "
             "(`placeclust.stats.buildings_for`), and the cost of one building.\n\n"
             + power_table(summaries))
@@ -195,6 +213,8 @@ def main(argv: list[str] | None = None, prog: str = "placeclust leaderboard"
     if args.docs:
         name = "leaderboard-" + (args.suite or args.split or "scenes")
         name += "" if args.size == "full" else f"-{args.size}"
+        name += f"-{args.track}" if args.track else ""
+        name += "-localize" if args.localize_only else ""
         name += "" if args.agent == "planner" else f"-{args.agent}"
         if args.agent == "ppo" and args.policy:  # two policies' boards keep their own sections
             name += "-" + slug(policy_name(str(args.policy)))
@@ -213,8 +233,11 @@ def _describe(args: argparse.Namespace, seeds: list[int], summaries: list[dict[s
              f"{prov['versions']['placeclust']}, render fingerprint "
              f"`{prov['render_fingerprint']}`. " if prov["suite"] else "")
     redrawn = sum(s["redrawn"] for s in summaries)
+    track = f"Track `{args.track}`: {TRACKS[args.track].tests}. " if args.track else ""
+    if args.localize_only:
+        track += "The map is fixed after the tour (the recognizers only localize). "
     errands = sum(s["errands"] for s in summaries)
-    return (f"{suite}{len(seeds)} buildings of {args.rooms} rooms ({where} {span}), "
+    return (f"{suite}{track}{len(seeds)} buildings of {args.rooms} rooms ({where} {span}), "
             f"{args.goals_per_scene} errands each after one guided tour, episode seed "
             f"{args.seed}, agent `{args.agent}`{_policy(args)}; {minutes:.0f} minutes of one "
             "core in all. "

@@ -1,4 +1,4 @@
-"""Frozen benchmark suites: which buildings, tours and errands a result is measured on.
+"""Frozen benchmark suites and tracks: which buildings, tours and errands a result is measured on.
 
 A suite is named and versioned (``placenav-v1``) and never changes once published: a new
 choice is a new version. Every results file records the suite it ran (or none), the package
@@ -14,6 +14,10 @@ Examples:
     ('test', 6, 5)
     >>> suite.scene_seeds("quick") == list(range(2000, 2000 + suite.n_quick))
     True
+    >>> track_task("changed-night")
+    {'errand_condition': 'night'}
+    >>> track_task("carried", errand_learn=False)
+    {'errand_start': 'carried', 'errand_learn': False}
 """
 
 from __future__ import annotations
@@ -100,6 +104,71 @@ def get_suite(name: str) -> Suite:
     if name not in SUITES:
         raise ValueError(f"unknown suite {name!r}; choose one of {sorted(SUITES)}")
     return SUITES[name]
+
+
+# -- tracks ----------------------------------------------------------------------------------
+#
+# v1's errands run under the tour's own light and furniture, each from where the last ended, in
+# rooms of random sizes: a recognizer that works and one that works better succeed alike there.
+# Each track changes one of those, as Habitat's challenge tracks each stress one thing, so that
+# what the recognizer's map is worth decides the errand (docs/design.md, "Tracks").
+
+@dataclass(frozen=True)
+class Track:
+    """A named closed-loop track: the guided tour's arguments and what it tests.
+
+    ``placeclust leaderboard --track NAME`` and ``placeclust errands --track NAME`` run one;
+    ``placeclust score`` puts several tracks' results into one suite score
+    (:mod:`envs.commands.compare`).
+
+    | track | the errands | what it asks of the map |
+    |---|---|---|
+    | ``continued`` | from where the last one ended, as in v1 | to name the places on the way |
+    | ``changed-night`` | under night light (the tour by day) | to serve after the light changed |
+    | ``changed-cloudy`` | under cloudy light | the same, a milder change |
+    | ``changed-moved`` | furniture moved and removed, posters swapped | to serve after moves |
+    | ``carried`` | each from where the robot is put down | to say where it is from a look |
+    | ``corridor`` | identical offices along a corridor | to tell apart what only a camera can |
+    | ``long`` | after a tour of 500 steps a room | to stay compact and right on a long tour |
+
+    Under a changed condition the map is the tour's; by default the recognizer keeps learning
+    during the errands, as a deployed robot would; ``errand_learn=False``
+    (``--localize-only``) fixes the map, and a recognizer without ``localize_one`` is then
+    skipped, not scored zero.
+    """
+
+    name: str
+    task: Mapping[str, Any]
+    tests: str
+
+
+TRACKS: Mapping[str, Track] = MappingProxyType({t.name: t for t in (
+    Track("continued", {}, "errands from where the last ended, in the tour's world"),
+    Track("changed-night", {"errand_condition": "night"}, "errands by night on a day map"),
+    Track("changed-cloudy", {"errand_condition": "cloudy"}, "errands under cloud on a day map"),
+    Track("changed-moved", {"errand_condition": "moved"},
+          "errands after furniture moved and posters were swapped"),
+    Track("carried", {"errand_start": "carried"}, "each errand from where the robot is put down"),
+    Track("corridor", {"layout": "corridor"}, "identical offices along a corridor"),
+    Track("long", {"tour_steps_per_room": 500}, "errands after a tour of 500 steps a room"),
+)})
+
+
+def get_track(name: str) -> Track:
+    """The track called ``name``; a ``ValueError`` naming the tracks there are."""
+    if name not in TRACKS:
+        raise ValueError(f"unknown track {name!r}; choose one of {list(TRACKS)}")
+    return TRACKS[name]
+
+
+def track_task(name: str, errand_learn: bool = True) -> dict[str, Any]:
+    """The ``PlaceNav-GuidedTour-v1`` arguments of track ``name``; with ``errand_learn=False``
+    the map is fixed during the errands (the default leaves the argument out: jobs of the
+    default keep their plain names)."""
+    task = dict(get_track(name).task)
+    if not errand_learn:
+        task["errand_learn"] = False
+    return task
 
 
 def library_versions() -> dict[str, str]:

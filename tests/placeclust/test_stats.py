@@ -11,6 +11,7 @@ from placeclust.stats import (
     interval,
     paired_difference,
     probability_of_improvement,
+    suite_score,
 )
 
 
@@ -85,3 +86,60 @@ def test_the_buildings_needed_follow_the_pilots_spread():
     n = buildings_for(pilot, 0.05)
     assert buildings_for(pilot, 0.10) == pytest.approx(n / 4, rel=0.1)
     assert buildings_for([[1, 1]] * 5, 0.05) == 2  # no spread: the fewest that resample
+
+
+def _track(rng, p, n=20, errands=5):
+    return [rng.binomial(1, p, errands) for _ in range(n)]
+
+
+def test_the_suite_score_normalizes_each_track_between_its_floor_and_ceiling():
+    tracks = {"a": [[1, 0], [1, 1]], "b": [[0, 0], [0, 1]]}  # means 0.75 and 0.25
+    est = suite_score(tracks, floors={"a": 0.5, "b": 0.0}, ceilings={"a": 1.0, "b": 0.5},
+                      n_resamples=200)
+    assert est.mean == pytest.approx((0.5 + 0.5) / 2)
+    same = {"a": [[1, 1]] * 3, "b": [[1, 1]] * 3}
+    assert suite_score(same, {"a": 0, "b": 0}, {"a": 1, "b": 1}, n_resamples=100).mean == 1.0
+    with pytest.raises(ValueError, match="floor and a ceiling that differ"):
+        suite_score(tracks, {"a": 0.5, "b": 0.5}, {"a": 1.0, "b": 0.5})
+    with pytest.raises(ValueError, match="aggregate"):
+        suite_score(tracks, {"a": 0, "b": 0}, {"a": 1, "b": 1}, aggregate="median")
+
+
+def test_the_iqm_trims_the_outlying_tracks():
+    ones, zeros = [[1, 1]] * 4, [[0, 0]] * 4
+    tracks = {"a": zeros, "b": ones, "c": ones, "d": ones}
+    f, c = dict.fromkeys(tracks, 0.0), dict.fromkeys(tracks, 1.0)
+    assert suite_score(tracks, f, c, n_resamples=100).mean == 0.75
+    assert suite_score(tracks, f, c, aggregate="iqm", n_resamples=100).mean == 1.0
+
+
+def test_the_stratified_interval_covers_the_truth_at_its_rate():
+    # three tracks of 30 buildings whose true success is known: the 95% interval of the
+    # normalized mean must hold the truth in about 95 of 100 draws (not just once)
+    rng = np.random.default_rng(0)
+    truth = {"a": 0.8, "b": 0.6, "c": 0.4}
+    f, c = dict.fromkeys(truth, 0.0), dict.fromkeys(truth, 1.0)
+    held = 0
+    for seed in range(100):
+        est = suite_score({t: _track(rng, p, n=30) for t, p in truth.items()}, f, c,
+                          n_resamples=1000, seed=seed)
+        held += est.low <= np.mean(list(truth.values())) <= est.high
+    assert 88 <= held <= 99
+
+
+def test_a_paired_suite_score_needs_the_pairing():
+    # two recognizers whose buildings vary together: paired, the difference is decided;
+    # with the buildings of one shuffled, the same means give a wider interval
+    rng = np.random.default_rng(1)
+    base = {t: rng.uniform(0.15, 0.95, 30) for t in "abc"}
+    a = {t: [rng.binomial(1, p, 20) for p in base[t]] for t in "abc"}
+    b = {t: [rng.binomial(1, max(p - 0.1, 0), 20) for p in base[t]] for t in "abc"}
+    f, c = dict.fromkeys("abc", 0.0), dict.fromkeys("abc", 1.0)
+    paired = suite_score(a, f, c, against=b, n_resamples=2000)
+    shuffled = suite_score(a, f, c, against={t: list(rng.permutation(np.array(b[t])))
+                                             for t in "abc"}, n_resamples=2000)
+    assert paired.mean == pytest.approx(shuffled.mean)
+    assert paired.half_width < 0.8 * shuffled.half_width
+    assert paired.low > 0
+    with pytest.raises(ValueError, match="paired tracks differ"):
+        suite_score(a, f, c, against={"a": b["a"]})

@@ -130,3 +130,38 @@ def test_one_recognizer_after_short_and_long_tours_is_compared_by_size(results, 
     assert "suite placenav-v1 (long and quick)" in out
     # what --force let through is said in the docs too, not only on the terminal
     assert "compared anyway (--force): size: long against quick" in docs.read_text()
+
+
+def _track_file(tmp_path, track, success):
+    """A track's results: the floor, the ceiling and two recognizers on four buildings."""
+    rows = []
+    for name, per_building in success.items():
+        rows += [_row(name, s, per_building[s], 0.9) for s in range(4)]
+    path = tmp_path / track / "results.json"
+    write_results(path, rows, list(success), {**SETTINGS, "track": track}, PROVENANCE)
+    return path
+
+
+def test_the_suite_score_normalizes_tracks_and_pairs_two_recognizers(tmp_path, capsys):
+    one = [[1, 1, 1, 1]] * 4
+    half = [[1, 1, 0, 0]] * 4
+    zero = [[0, 0, 0, 0]] * 4
+    files = [_track_file(tmp_path, "carried", {"none": zero, "oracle": one, "good": one,
+                                                "poor": half}),
+             _track_file(tmp_path, "continued", {"none": half, "oracle": one, "good": one,
+                                                 "poor": half})]
+    assert compare.score_main([*map(str, files), "--pair", "good", "poor"]) == 0
+    out = capsys.readouterr().out
+    # carried: poor is halfway; continued: poor is at the floor
+    assert "| poor | 0.50 [0.50, 0.50] | 0.50 [0.50, 0.50] | 0.25 [0.25, 0.25] |" in out
+    assert "| good | 1.00 [1.00, 1.00] | 1.00 [1.00, 1.00] | 1.00 [1.00, 1.00] |" in out
+    assert "**0.750 [0.750, 0.750]**" in out and "the interval excludes 0" in out
+
+
+def test_the_suite_score_refuses_a_track_without_its_floor_or_twice(tmp_path, capsys):
+    one = [[1, 1, 1, 1]] * 4
+    path = _track_file(tmp_path, "carried", {"oracle": one, "good": one})
+    assert compare.score_main([str(path)]) == 2
+    assert "no 'none' rows" in capsys.readouterr().err
+    assert compare.score_main([str(path), str(path), "--floor", "good"]) == 2
+    assert "two files of track 'carried'" in capsys.readouterr().err

@@ -139,3 +139,33 @@ def test_two_policies_keep_two_job_files():
     assert a != b and "carried_place" in a
     chosen = closed_loop.job_key({**job, "policy": "runs/train/carried_place/best_model.zip"})
     assert "carried_place" in chosen  # train.choose's pick is named by its run too
+
+
+def test_a_track_runs_its_errands_and_a_fixed_map_skips_who_cannot_localize(tmp_path, capsys):
+    from envs.commands import leaderboard as board
+
+    code = board.main(["--scene-seeds", "0", "1", "--rooms", "3", "--goals-per-scene", "1",
+                       "--tour-steps-per-room", "30", "--recognizers", "oracle", "oracle-split:2",
+                       "examples.tiny_recognizer:HaarPlaces", "--track", "changed-night",
+                       "--localize-only", "--agent", "relocalizer", "--workers", "1",
+                       "--out", str(tmp_path)])
+    captured = capsys.readouterr()
+    assert code == 0 and "skipped, no localize_one" in captured.err
+    assert "Track `changed-night`" in captured.out and "HaarPlaces." in captured.out
+    doc = json.loads((tmp_path / "results.json").read_text())
+    assert doc["settings"]["track"] == "changed-night"
+    assert doc["settings"]["task"] == {"tour_steps_per_room": 30, "errand_condition": "night",
+                                       "errand_learn": False}
+    assert doc["settings"]["skipped"] == ["examples.tiny_recognizer:HaarPlaces"]
+    assert [s["recognizer"] for s in doc["summaries"]] == ["oracle", "oracle-split:2"]
+
+
+def test_a_track_refuses_an_option_that_contradicts_it(capsys):
+    code = closed_loop.main(["--scene-seeds", "0", "--rooms", "3", "--recognizer", "oracle",
+                             "--track", "long", "--tour-steps-per-room", "40"])
+    err = capsys.readouterr().err
+    assert code == 2 and "--track long sets tour_steps_per_room=500" in err
+    code = closed_loop.main(["--scene-seeds", "0", "--rooms", "3", "--localize-only",
+                             "--recognizer", "examples.tiny_recognizer:HaarPlaces"])
+    err = capsys.readouterr().err
+    assert code == 2 and "cannot localize" in err and len(err.strip().splitlines()) == 1
