@@ -9,7 +9,7 @@ from __future__ import annotations
 import ast
 import inspect
 import time
-from collections.abc import Callable, Iterable
+from collections.abc import Callable, Iterable, Mapping
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -99,13 +99,18 @@ def _load(path: str) -> type:
     return cls
 
 
-def check_params(algo: str, names: Iterable[str]) -> None:
-    """Check parameter names against ``algo``'s constructor before running anything.
+def check_params(algo: str, names: Iterable[str] | Mapping[str, object]) -> None:
+    """Check parameter names, and values where given, against ``algo``'s constructor before
+    running anything.
 
-    ``features`` is not a parameter here: every recognizer is given it separately.
+    ``features`` is not a parameter here: every recognizer is given it separately. A value
+    given as text (``--param threshold=abc`` parses to the string ``"abc"``) where the
+    constructor's default is a number or a flag, or where its annotation admits no string, is
+    refused: it would reach the constructor and fail deep inside it.
 
     Raises:
-        ValueError: naming the first of ``names`` that ``algo``'s constructor does not take.
+        ValueError: naming the first of ``names`` that ``algo``'s constructor does not take, or
+            the first value of the wrong type.
 
     Examples:
         >>> from placeclust.runner import check_params
@@ -115,11 +120,31 @@ def check_params(algo: str, names: Iterable[str]) -> None:
             ...
         ValueError: kmeans has no parameter 't_new_cluster'; it takes ['n_clusters', ...]
     """
-    known = [n for n in inspect.signature(recognizer_class(algo)).parameters
-             if n != "features"]
+    signature = inspect.signature(recognizer_class(algo)).parameters
+    known = [n for n in signature if n != "features"]
     for name in names:
         if name not in known:
             raise ValueError(f"{algo} has no parameter {name!r}; it takes {known}")
+    if isinstance(names, Mapping):
+        for name, value in names.items():
+            if name != "features" and not _fits(signature[name], value):
+                default = signature[name].default
+                wanted = (type(default).__name__ if default not in (None, inspect.Parameter.empty)
+                          else str(signature[name].annotation))
+                raise ValueError(f"{algo}'s {name} must be {wanted}, got {value!r}")
+
+
+def _fits(parameter: inspect.Parameter, value: object) -> bool:
+    """Whether ``value`` may go to ``parameter``: only text is doubted, as what a
+    ``NAME=VALUE`` that did not parse leaves behind."""
+    if not isinstance(value, str):
+        return True
+    default = parameter.default
+    if default not in (None, inspect.Parameter.empty):
+        return isinstance(default, str)
+    annotation = str(parameter.annotation)
+    return parameter.annotation is inspect.Parameter.empty or "str" in annotation \
+        or "Any" in annotation or "object" in annotation
 
 
 def literal_params(items: list[str] | None) -> dict[str, object]:

@@ -105,7 +105,9 @@ class Matrix:
         # each algo is a name of ALGORITHMS or package.module:Class (check_params loads it,
         # naming one it cannot) whose recognizer takes every param of the matrix
         for algo in self.algos:
-            check_params(algo, (name for name, _ in self.params))
+            # n_clusters="rooms" or "online" is made a number per tour (_matched_k)
+            check_params(algo, {k: 1 if k == "n_clusters" and v in ("rooms", "online") else v
+                                for k, v in self.params})
         _check_choices("features", self.features + self.latency_features, FEATURES)
         for condition in self.conditions:
             _check_choices("conditions", tuple(condition.split(">")), tuple(CONDITIONS))

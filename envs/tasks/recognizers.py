@@ -87,7 +87,7 @@ def _own_recognizer(path: str, params: dict[str, Any]) -> Recognizer:
     if is_offline(cls):
         raise ValueError(f"{path} is an offline recognizer (fit_predict); the closed loop "
                          "needs an online one (learn_predict_one)")
-    check_params(path, [k for k in params if k != "features"])
+    check_params(path, {k: v for k, v in params.items() if k != "features"})
     model = make(path, **params)
     if not isinstance(model, Recognizer):
         raise ValueError(f"{path} lacks what the closed loop reads of a recognizer: "

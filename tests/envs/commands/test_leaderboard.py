@@ -99,6 +99,10 @@ def test_a_recognizer_of_your_own_runs_in_the_closed_loop(tmp_path):
     (["--recognizer", "examples.tiny_recognizer:HaarPlaces", "--param", "radius=2"],
      "radius"),
     (["--recognizer", "panorama", "--param", "scale=1.0"], "are built in"),
+    (["--recognizer", "examples.tiny_recognizer:HaarPlaces", "--param", "threshold=abc"],
+     "HaarPlaces's threshold must be float, got 'abc'"),
+    (["--recognizer", "placeclust.online:OnlinePlaceClustering", "--param",
+      "t_new_cluster=abc"], "t_new_cluster must be float"),
 ])
 def test_a_bad_recognizer_stops_the_errands_before_any_tour(argv, message, tmp_path, capsys):
     code = closed_loop.main(["--scene-seeds", "0", "--rooms", "3", "--out", str(tmp_path),
