@@ -25,14 +25,15 @@ Examples:
 from __future__ import annotations
 
 import argparse
+import functools
 import hashlib
 import inspect
 import json
 import sys
 import time
-from collections.abc import Callable
+from collections.abc import Callable, Mapping
 from pathlib import Path
-from typing import Any
+from typing import Any, cast
 
 import gymnasium as gym
 import numpy as np
@@ -46,7 +47,7 @@ from ..agents import hints
 from ..agents.learned import LearnedAgent, config_path
 from ..agents.relocalize import RelocalizingPlanner
 from ..agents.teach_repeat import TourPlanner
-from ..tasks.guided_tour import ERRAND_STARTS
+from ..tasks.guided_tour import ERRAND_STARTS, GuidedTourEnv
 from ..tasks.recognizers import (
     RECOGNIZERS,
     check_recognizer_name,
@@ -80,7 +81,9 @@ POLICY = ASSETS / "policies" / "errands" / "ppo_errands.zip"
 def run_scene(scene_seed: int, n_rooms: int = 6, recognizer: str = "panorama",
               agent: str = "planner", goals: int = 5, seed: int = 0,
               policy: str | Path | None = None,
-              recognizer_params: dict[str, Any] | None = None, **task: Any) -> dict[str, Any]:
+              recognizer_params: dict[str, Any] | None = None,
+              tracks: Mapping[str, Mapping[str, Any]] | None = None, **task: Any
+              ) -> dict[str, Any]:
     """One guided tour of building ``scene_seed`` and ``goals`` errands; the outcome.
 
     Args:
@@ -93,38 +96,71 @@ def run_scene(scene_seed: int, n_rooms: int = 6, recognizer: str = "panorama",
         policy: the ``ppo`` agent's policy (default: the shipped one); the ``config.yml``
             beside it says what it observes (:class:`~envs.agents.learned.LearnedAgent`).
         recognizer_params: the recognizer's constructor arguments.
-        **task: more ``PlaceNav-GuidedTour-v1`` arguments.
+        tracks: errands of several tracks after one tour: track name -> its errand arguments
+            (``errand_start``, ``errand_condition``, ``errand_learn``). Each track's errands
+            start from the tour's state (``TourState``), the robot at rest where the tour
+            ended, with the same goals and carries as a tour of its own would give them.
+        **task: more ``PlaceNav-GuidedTour-v1`` arguments (the tour's, with ``tracks``).
 
     Returns:
         ``success_rate``, ``spl``, ``mean_length`` (steps per errand), the tour map's
         ``precision``, ``nmi``, ``n_places``, ``places_per_room``, the ``errands`` themselves
-        and ``seconds``.
+        and ``seconds``; with ``tracks``, such a row per track under ``tracks``.
     """
     if agent not in ERRAND_AGENTS:
         raise ValueError(f"unknown agent {agent!r}; choose one of {ERRAND_AGENTS}")
     check_recognizer_name(recognizer)
     learned = LearnedAgent.load(policy or POLICY) if agent == "ppo" else None
-    start = time.perf_counter()
-    env = gym.make("PlaceNav-GuidedTour-v1", recognizer=recognizer, scene_seed=scene_seed,
-                   n_rooms=n_rooms, n_errands=goals, recognizer_params=recognizer_params,
-                   **task)
+    head = {"scene_seed": scene_seed, "recognizer": recognizer,
+            "recognizer_params": dict(recognizer_params or {}), "agent": agent}
+    make = functools.partial(gym.make, "PlaceNav-GuidedTour-v1", recognizer=recognizer,
+                             scene_seed=scene_seed, n_rooms=n_rooms, n_errands=goals,
+                             recognizer_params=recognizer_params)
+    episode = seed * 100_003 + scene_seed
+    if tracks is None:
+        start = time.perf_counter()
+        info, errands = _errands(make(**task), episode, agent, seed, learned)
+        return {**head, **_scores(errands), **info["map"], "errands": errands,
+                "seconds": time.perf_counter() - start}
+    rows: dict[str, Any] = {}
+    state = None
+    for name, extra in tracks.items():
+        start = time.perf_counter()
+        env = make(**task, **extra)
+        if state is None:  # the tour, once: every track's errands start from what it left
+            try:
+                env.reset(seed=episode)
+                state = cast(GuidedTourEnv, env.unwrapped).tour_state()
+            except BaseException:
+                env.close()
+                raise
+        info, errands = _errands(env, episode, agent, seed, learned, {"tour": state})
+        rows[name] = {**head, **_scores(errands), **info["map"], "errands": errands,
+                      "seconds": time.perf_counter() - start}
+    return {**head, "tracks": rows,
+            "seconds": float(sum(r["seconds"] for r in rows.values()))}
+
+
+def _errands(env: gym.Env, episode: int, agent: str, seed: int, learned: LearnedAgent | None,
+             options: dict[str, Any] | None = None) -> tuple[dict[str, Any], list[dict]]:
+    """Run one episode's errands on ``env`` (closed after); the reset's info and the errands."""
     if learned is not None:  # the policy sees what it was trained on (envs.agents.learned)
         env = learned.wrap(env, seed)
     try:
-        obs, info = env.reset(seed=seed * 100_003 + scene_seed)
+        obs, info = env.reset(seed=episode, options=options)
         act = _agent(agent, env, info, obs, seed) if learned is None else learned.actor()
         done = False
         while not done:
             obs, _, done, _, step_info = env.step(act(obs))
     finally:
         env.close()
-    errands = step_info["errands"]
-    return {"scene_seed": scene_seed, "recognizer": recognizer,
-            "recognizer_params": dict(recognizer_params or {}), "agent": agent,
-            "success_rate": float(np.mean([e["success"] for e in errands])),
+    return info, step_info["errands"]
+
+
+def _scores(errands: list[dict]) -> dict[str, float]:
+    return {"success_rate": float(np.mean([e["success"] for e in errands])),
             "spl": float(np.mean([e["spl"] for e in errands])),
-            "mean_length": float(np.mean([e["steps"] for e in errands])),
-            **info["map"], "errands": errands, "seconds": time.perf_counter() - start}
+            "mean_length": float(np.mean([e["steps"] for e in errands]))}
 
 
 def _agent(kind: str, env: gym.Env, info: dict, obs: dict, seed: int):
@@ -280,9 +316,10 @@ def tour_task(steps_per_room: int, errand_start: str = "continue", layout: str =
     return task
 
 
-def add_task_arguments(p: argparse.ArgumentParser) -> None:
+def add_task_arguments(p: argparse.ArgumentParser, many_tracks: bool = False) -> None:
     """The options that say which errands run: ``--tour-steps-per-room``, ``--errand-start``,
-    ``--layout``, a named ``--track`` (:mod:`envs.commands.suite`) and ``--localize-only``."""
+    ``--layout``, a named ``--track`` (:mod:`envs.commands.suite`; several if
+    ``many_tracks``, into ``args.tracks``) and ``--localize-only``."""
     p.add_argument("--tour-steps-per-room", type=int, default=TOUR_STEPS_PER_ROOM,
                    help="the guided tour's length per room (PlaceNav-GuidedTour-v1's)")
     p.add_argument("--errand-start", choices=ERRAND_STARTS, default="continue",
@@ -291,24 +328,31 @@ def add_task_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--layout", choices=LAYOUTS, default="grid",
                    help="the buildings: rooms of random sizes, or identical offices along a "
                    "corridor (--rooms counts the corridor)")
-    p.add_argument("--track", choices=list(TRACKS), help="a named track's errands "
-                   "(envs.commands.suite): changed-night, carried, corridor...")
+    if many_tracks:
+        p.add_argument("--track", dest="tracks", nargs="+", choices=list(TRACKS),
+                       metavar="TRACK", help="named tracks' errands (envs.commands.suite): "
+                       f"{', '.join(TRACKS)}; tracks of one tour share it")
+    else:
+        p.add_argument("--track", choices=list(TRACKS), help="a named track's errands "
+                       "(envs.commands.suite): changed-night, carried, corridor...")
     p.add_argument("--localize-only", action="store_true", help="the map is the tour's and "
                    "stays fixed during the errands (localize_one); recognizers without it are "
                    "skipped")
 
 
-def task_from_args(args: argparse.Namespace) -> dict[str, Any]:
-    """The ``PlaceNav-GuidedTour-v1`` arguments of :func:`add_task_arguments`' options.
+def task_from_args(args: argparse.Namespace, track: str | None = None) -> dict[str, Any]:
+    """The ``PlaceNav-GuidedTour-v1`` arguments of :func:`add_task_arguments`' options, for
+    ``track`` (default: ``args.track``, if any).
 
     Raises:
         ValueError: an option that contradicts the track's own setting of it.
     """
     task = tour_task(args.tour_steps_per_room, args.errand_start, args.layout)
-    if args.track:
-        for key, value in track_task(args.track).items():
+    track = track or getattr(args, "track", None)
+    if track:
+        for key, value in track_task(track).items():
             if task.get(key, value) != value:
-                raise ValueError(f"--track {args.track} sets {key}={value!r}; leave out the "
+                raise ValueError(f"--track {track} sets {key}={value!r}; leave out the "
                                  f"option that sets it to {task[key]!r}")
             task[key] = value
     if args.localize_only:
@@ -316,15 +360,44 @@ def task_from_args(args: argparse.Namespace) -> dict[str, Any]:
     return task
 
 
-def run_settings(args: argparse.Namespace, seeds: list[int], task: dict[str, Any]
-                 ) -> dict[str, Any]:
+#: the guided tour's arguments a track may set: tracks that agree on them share one tour
+TOUR_KEYS = frozenset({"layout", "tour_steps_per_room"})
+
+
+def track_jobs(scene_seeds: list[int], recognizers: list[str], tasks: dict[str, dict[str, Any]],
+               **common: Any) -> list[dict[str, Any]]:
+    """:func:`make_jobs` for several tracks (name -> its full task): one job per recognizer,
+    building and tour, serving every track of that tour (:func:`run_scene`'s ``tracks``)."""
+    tours: dict[str, tuple[dict[str, Any], dict[str, dict[str, Any]]]] = {}
+    for name, task in tasks.items():
+        tour = {k: v for k, v in task.items() if k in TOUR_KEYS}
+        key = json.dumps(tour, sort_keys=True)
+        tours.setdefault(key, (tour, {}))[1][name] = {k: v for k, v in task.items()
+                                                      if k not in TOUR_KEYS}
+    return [job for tour, tracks in tours.values()
+            for job in make_jobs(scene_seeds, recognizers, **common, **tour, tracks=tracks)]
+
+
+def split_tracks(rows: list[dict[str, Any]]) -> dict[str, list[dict[str, Any]]]:
+    """Rows of :func:`track_jobs`' jobs as one list of rows per track (each a plain
+    :func:`run_scene` row, with the job's ``key``)."""
+    out: dict[str, list[dict[str, Any]]] = {}
+    for row in rows:
+        for name, track_row in row["tracks"].items():
+            out.setdefault(name, []).append({**track_row, "key": row.get("key"),
+                                             "policy": row.get("policy")})
+    return out
+
+
+def run_settings(args: argparse.Namespace, seeds: list[int], task: dict[str, Any],
+                 track: str | None = None) -> dict[str, Any]:
     """What a results file's ``settings`` say a run measured (``placeclust compare`` pairs
     only runs whose settings agree), from a command's ``split``, ``rooms``,
     ``goals_per_scene``, ``seed`` and ``agent``."""
     return {"split": args.split, "scene_seeds": seeds, "rooms": args.rooms,
             "goals": args.goals_per_scene, "seed": args.seed, "agent": args.agent,
             "policy": None if getattr(args, "policy", None) is None else str(args.policy),
-            "task": task, **({"track": args.track} if getattr(args, "track", None) else {})}
+            "task": task, **({"track": track} if track else {})}
 
 
 def add_recognizer_arguments(p: argparse.ArgumentParser, many: bool) -> None:
@@ -400,7 +473,7 @@ def main(argv: list[str] | None = None, prog: str = "placeclust errands") -> int
     except (ValueError, FileNotFoundError) as e:
         print(f"error: {e}", file=sys.stderr)
         return 2
-    settings = run_settings(args, seeds, task)
+    settings = run_settings(args, seeds, task, args.track)
     if args.json:
         doc = write_results(args.json, rows, [args.recognizer], settings, provenance(None))
         (summary,) = doc["summaries"]

@@ -49,8 +49,11 @@ from .closed_loop import (
     recognizer_params,
     run_jobs,
     run_settings,
+    split_tracks,
     task_from_args,
+    track_jobs,
 )
+from .compare import load_tracks, score_table
 from .results import (
     TARGET_HALF_WIDTH,
     interval_text,
@@ -124,14 +127,15 @@ def plot(summaries: list[dict[str, Any]], path: Path) -> None:
 
 
 def _settings(args: argparse.Namespace, p: argparse.ArgumentParser, argv: list[str]
-              ) -> tuple[list[int], dict[str, Any]]:
-    """The buildings and settings a run measures: the suite's, or the options'."""
+              ) -> tuple[list[int], dict[str | None, dict[str, Any]]]:
+    """The buildings, and the settings a run measures for each of its tracks (``None``: no
+    track): the suite's, or the options'."""
     if args.suite is None:
         if args.size != "full":
             p.error("--size goes with --suite")
         seeds = scope_seeds(args, p)
         try:
-            task = task_from_args(args)
+            tasks = {t: task_from_args(args, t) for t in (args.tracks or [None])}
         except ValueError as e:
             p.error(str(e))
     else:
@@ -143,10 +147,10 @@ def _settings(args: argparse.Namespace, p: argparse.ArgumentParser, argv: list[s
             p.error(f"the suite {args.suite} fixes {' '.join(fixed)}; leave them out, or "
                     "leave out --suite (the results then belong to no suite)")
         suite = get_suite(args.suite)
-        seeds, task = suite.scene_seeds(args.size), suite.task(args.size)
+        seeds, tasks = suite.scene_seeds(args.size), {None: suite.task(args.size)}
         args.split, args.rooms = suite.split, suite.n_rooms
         args.goals_per_scene, args.seed = suite.goals, suite.seed
-    return seeds, run_settings(args, seeds, task)
+    return seeds, {t: run_settings(args, seeds, task, t) for t, task in tasks.items()}
 
 
 def main(argv: list[str] | None = None, prog: str = "placeclust leaderboard"
@@ -164,9 +168,11 @@ def main(argv: list[str] | None = None, prog: str = "placeclust leaderboard"
     p.add_argument("--agent", choices=ERRAND_AGENTS, default="planner")
     p.add_argument("--policy", type=Path, help="the ppo agent's policy (default: shipped)")
     p.add_argument("--goals-per-scene", type=int, default=5)
-    add_task_arguments(p)
+    add_task_arguments(p, many_tracks=True)
     p.add_argument("--seed", type=int, default=0)
-    p.add_argument("--out", type=Path, default=Path("runs/leaderboard"))
+    p.add_argument("--out", type=Path, default=Path("runs/leaderboard"), help="where the "
+                   "results go: OUT/results.json, or OUT/TRACK/results.json for each of "
+                   "several tracks")
     p.add_argument("--workers", type=int, default=2)
     p.add_argument("--executor", choices=("process", "ray"), default="process",
                    help="a local process pool, or Ray: a local instance of --workers CPUs, or "
@@ -176,10 +182,10 @@ def main(argv: list[str] | None = None, prog: str = "placeclust leaderboard"
     argv = sys.argv[1:] if argv is None else list(argv)
     args = p.parse_args(argv)
     seeds, settings = _settings(args, p, argv)
+    localize = any(st["task"].get("errand_learn") is False for st in settings.values())
     try:
         params = recognizer_params(args.recognizers, args.preset, args.param)
-        skipped = [r for r in args.recognizers if settings["task"].get("errand_learn") is False
-                   and not localizes(r, params[r])]
+        skipped = [r for r in args.recognizers if localize and not localizes(r, params[r])]
         args.recognizers = [r for r in args.recognizers if r not in skipped]
         if skipped:
             print(f"skipped, no localize_one to run on a fixed map: {', '.join(skipped)}",
@@ -187,20 +193,44 @@ def main(argv: list[str] | None = None, prog: str = "placeclust leaderboard"
         if not args.recognizers:
             raise ValueError("no recognizer left to run: none of them can localize on a "
                              "fixed map; leave out --localize-only")
-        jobs = make_jobs(seeds, args.recognizers, args.rooms, args.agent,
-                         args.goals_per_scene, args.seed, args.policy, params,
-                         **settings["task"])
-        rows = run_jobs(jobs, args.out, args.workers, args.executor)
+        common = {"n_rooms": args.rooms, "agent": args.agent, "goals": args.goals_per_scene,
+                  "seed": args.seed, "policy": args.policy, "params": params}
+        if args.tracks and len(args.tracks) > 1:
+            jobs = track_jobs(seeds, args.recognizers,
+                              {t: st["task"] for t, st in settings.items() if t}, **common)
+            done = split_tracks(run_jobs(jobs, args.out, args.workers, args.executor))
+            by_track: dict[str | None, list] = {t: done[t] for t in args.tracks}
+        else:
+            ((track, only),) = settings.items()
+            jobs = make_jobs(seeds, args.recognizers, **common, **only["task"])
+            by_track = {track: run_jobs(jobs, args.out, args.workers, args.executor)}
     except (ValueError, FileNotFoundError) as e:
         print(f"error: {e}", file=sys.stderr)
         return 2
+    several = len(by_track) > 1
+    for track, rows in by_track.items():
+        out = args.out / track if several and track else args.out
+        _report(args, prog, argv, seeds, rows, {**settings[track], "recognizers":
+                                                args.recognizers,
+                                                **({"skipped": skipped} if skipped else {})},
+                out, track)
+    if several and {"none", "oracle"} <= set(args.recognizers):
+        print("\n" + score_table(load_tracks([args.out / str(t) / "results.json"
+                                               for t in by_track]), "none", "oracle",
+                                 "mean")[0])
+    return 0
+
+
+def _report(args: argparse.Namespace, prog: str, argv: list[str], seeds: list[int],
+            rows: list[dict[str, Any]], settings: dict[str, Any], out: Path,
+            track: str | None) -> None:
+    """One track's results file, table, plot and docs section."""
     suite = None if args.suite is None else get_suite(args.suite)
-    doc = write_results(args.out / "results.json", rows, args.recognizers,
-                        {**settings, "recognizers": args.recognizers,
-                         **({"skipped": skipped} if skipped else {})},
+    doc = write_results(out / "results.json", rows, args.recognizers, settings,
                         provenance(suite, args.size))
     summaries = doc["summaries"]
-    body = (_describe(args, seeds, summaries, doc["provenance"]) + "\n\n"
+    skipped = settings.get("skipped", [])
+    body = (_describe(args, seeds, summaries, doc["provenance"], track) + "\n\n"
             + leaderboard(summaries)
             + (f"\n\nSkipped (no `localize_one`, so no fixed map to run on): "
                f"{', '.join(skipped)}." if skipped else "")
@@ -209,21 +239,20 @@ def main(argv: list[str] | None = None, prog: str = "placeclust leaderboard"
             "(`placeclust.stats.buildings_for`), and the cost of one building.\n\n"
             + power_table(summaries))
     print(body)
-    plot(summaries, args.out / "success_vs_nmi.png")
+    plot(summaries, out / "success_vs_nmi.png")
     if args.docs:
         name = "leaderboard-" + (args.suite or args.split or "scenes")
         name += "" if args.size == "full" else f"-{args.size}"
-        name += f"-{args.track}" if args.track else ""
+        name += f"-{track}" if track else ""
         name += "-localize" if args.localize_only else ""
         name += "" if args.agent == "planner" else f"-{args.agent}"
         if args.agent == "ppo" and args.policy:  # two policies' boards keep their own sections
             name += "-" + slug(policy_name(str(args.policy)))
         write_section(args.docs, name, body, shlex.join([*prog.split(), *argv]))
-    return 0
 
 
 def _describe(args: argparse.Namespace, seeds: list[int], summaries: list[dict[str, Any]],
-              prov: dict[str, Any]) -> str:
+              prov: dict[str, Any], track: str | None = None) -> str:
     """The paragraph above the table: what ran, on what, for how long, and how sure."""
     rho = rank_agreement(summaries) if len(summaries) > 2 else float("nan")
     minutes = sum(s["seconds"] for s in summaries) / 60
@@ -233,11 +262,11 @@ def _describe(args: argparse.Namespace, seeds: list[int], summaries: list[dict[s
              f"{prov['versions']['placeclust']}, render fingerprint "
              f"`{prov['render_fingerprint']}`. " if prov["suite"] else "")
     redrawn = sum(s["redrawn"] for s in summaries)
-    track = f"Track `{args.track}`: {TRACKS[args.track].tests}. " if args.track else ""
+    where_from = f"Track `{track}`: {TRACKS[track].tests}. " if track else ""
     if args.localize_only:
-        track += "The map is fixed after the tour (the recognizers only localize). "
+        where_from += "The map is fixed after the tour (the recognizers only localize). "
     errands = sum(s["errands"] for s in summaries)
-    return (f"{suite}{track}{len(seeds)} buildings of {args.rooms} rooms ({where} {span}), "
+    return (f"{suite}{where_from}{len(seeds)} buildings of {args.rooms} rooms ({where} {span}), "
             f"{args.goals_per_scene} errands each after one guided tour, episode seed "
             f"{args.seed}, agent `{args.agent}`{_policy(args)}; {minutes:.0f} minutes of one "
             "core in all. "

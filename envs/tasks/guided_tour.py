@@ -22,6 +22,7 @@ Examples:
 
 from __future__ import annotations
 
+import copy
 import math
 import string
 from collections.abc import Mapping, Sequence
@@ -34,16 +35,15 @@ from gymnasium import spaces
 from placeclust.metrics import score
 from placeclust.protocol import reads_images, resolve
 
+from ..world.changes import clear_pose
 from ..world.conditions import CONDITION_KEYS, CONDITIONS
-from ..world.layout import FloorPlan
-from ..world.robot import RADIUS
 from .goals import GoalRoom, NavTask
 from .oracles import BoundTrueRooms, TrueRooms
 from .place_id import PlaceIdWrapper, Recognizer
 from .place_nav import PlaceNavEnv
 from .recognizers import make_recognizer
-from .records import Errand, TourRecord
-from .tour import tour_steps
+from .records import Errand, TourRecord, TourState
+from .tour import guided_tour
 
 #: where an errand starts: where the last one ended, or carried to a random room
 ERRAND_STARTS = ("continue", "carried")
@@ -123,7 +123,10 @@ class GuidedTourEnv(NavTask, gym.utils.EzPickle):
     camera for ``nested``, the panorama otherwise).
 
     ``reset(options={"goals": [name, ...]})`` fixes the errands' rooms; a name the guide never
-    said is a ``ValueError``.
+    said is a ``ValueError``. ``reset(options={"tour": state})`` skips the tour and starts from
+    the :class:`~envs.tasks.records.TourState` another reset left (:meth:`tour_state`, of this
+    env or one of the same building and recognizer): the robot at rest where the tour ended,
+    the map as the tour made it, the episode's draws (goals, carries) as after that tour.
 
     ## Version History
     - v1 (placeclust 0.13.0): errands start at least ``min_errand_distance`` (1 m) of
@@ -197,6 +200,8 @@ class GuidedTourEnv(NavTask, gym.utils.EzPickle):
             **CONDITIONS[errand_condition])
         self.errand_condition, self.errand_learn = errand_condition, errand_learn
         self._place = -1  # the raw place of the current frame
+        self._tour: TourRecord | None = None  # the last tour, its end pose and last room
+        self._tour_end, self._tour_room = np.zeros(3), 0
         self.render_mode = render_mode
         self.n_errands, self.errand_steps = n_errands, errand_steps
         self.tour_steps_per_room, self.name_after = tour_steps_per_room, name_after
@@ -240,16 +245,20 @@ class GuidedTourEnv(NavTask, gym.utils.EzPickle):
         super().reset(seed=seed)  # the tour reseeds nav from this generator's draw
         options = dict(options or {})
         goals = options.pop("goals", None)
+        state = options.pop("tour", None)
         if options:
-            raise ValueError(f"unknown reset options {sorted(options)}; use 'goals'")
+            raise ValueError(f"unknown reset options {sorted(options)}; use 'goals' or 'tour'")
         if goals is not None:
             for name in goals:
                 self.plan.room_by_name(name)  # a KeyError naming the rooms, before the tour
         self._use(self.tour_nav, learn=True)
         tour_seed = int(self.np_random.integers(2**31))
-        if self.truth is not None:  # seeded by the tour: the episode's stream stays v1's
-            self._truth = self.truth.bind(self.plan, tour_seed)
-        tour, obs, info = self._guided_tour(tour_seed)
+        if state is not None:
+            tour, obs, info = self._resume(state, tour_seed)
+        else:
+            if self.truth is not None:  # seeded by the tour: the episode's stream stays v1's
+                self._truth = self.truth.bind(self.plan, tour_seed)
+            tour, obs, info = self._guided_tour(tour_seed)
         self._named = tour.heard_names()
         if goals is not None:
             unheard = [g for g in goals if g not in self._named]
@@ -296,6 +305,33 @@ class GuidedTourEnv(NavTask, gym.utils.EzPickle):
         if self.errand_nav is not self.tour_nav:
             self.errand_nav.close()
 
+    def tour_state(self) -> TourState:
+        """What the last tour left (copies): ``reset(options={"tour": state})`` of this env,
+        or of another of the same building, runs its errands without driving the tour again."""
+        if self._tour is None:
+            raise RuntimeError("no tour yet; call reset()")
+        return TourState(self._tour, copy.deepcopy(self.recognizer),
+                         copy.deepcopy(self._truth), self._tour_rooms.copy(),
+                         self._tour_end.copy(), self._tour_room)
+
+    def _resume(self, state: TourState, seed: int) -> tuple[TourRecord, dict, dict]:
+        """Start from ``state`` instead of a tour: its map, and the robot at rest where the tour
+        ended, seeing that frame (a recognizer's map takes it in, as any frame)."""
+        if (self._place_ids is None) != (state.recognizer is None):
+            raise ValueError("the tour state is of another kind of recognizer than this env's")
+        if self._place_ids is not None:
+            self._place_ids.recognizer = copy.deepcopy(state.recognizer)
+        self._truth = copy.deepcopy(state.truth)
+        self._tour, self._tour_rooms = state.record, state.rooms
+        self._tour_end, self._tour_room = state.pose, state.room
+        self._room = state.room
+        obs, info = self.nav.reset(seed=seed, options={"pose": state.pose})
+        if self._place_ids is not None:
+            obs = self._place_ids.observation(obs)
+            info = {**info, **self._place_ids.last_info}
+        self._read_place(info)
+        return state.record, obs, info
+
     # -- the condition ---------------------------------------------------------------------
 
     def _use(self, nav: PlaceNavEnv, learn: bool) -> None:
@@ -323,37 +359,16 @@ class GuidedTourEnv(NavTask, gym.utils.EzPickle):
     # -- the tour --------------------------------------------------------------------------
 
     def _guided_tour(self, tour_seed: int) -> tuple[TourRecord, dict, dict]:
-        """Drive the tour, naming each room ``name_after`` steps after first entering it."""
-        n_rooms = len(self.plan.rooms)
-        planned = self.tour_steps_per_room * n_rooms
-        places, heard, odometry, heading, ranges, rooms = [], [], [], [], [], []
-        named: set[int] = set()
-        run, last_room = 0, -1
-        for t, (obs, info) in enumerate(tour_steps(self._env, 3 * planned, seed=tour_seed)):
-            room = info["room_id"]
-            if room >= 0:
-                self._room = room
-            run = run + 1 if room == last_room else 1
-            last_room = room
-            say = ""
-            if room >= 0 and room not in named and run >= self.name_after:
-                named.add(room)
-                say = self.plan.rooms[room].name
-            places.append(self._read_place(info))
-            heard.append(say)
-            odometry.append(obs["odometry"])
-            heading.append(obs["heading"])
-            ranges.append(obs["ranges"])
-            rooms.append(room)
-            if t + 1 >= planned and len(named) == n_rooms:
-                break
-        ids = np.array(places, np.int64)
+        """Drive the tour (:func:`~envs.tasks.tour.guided_tour`) and keep what it leaves."""
+        record, rooms, obs, info = guided_tour(
+            self._env, self.plan, self._read_place, self.tour_steps_per_room, self.name_after,
+            tour_seed, self.nav.model.opt.timestep * self.nav.n_substeps)
         if self.recognizer is not None:
-            ids = resolve(self.recognizer, ids)
-        self._tour_rooms = np.array(rooms)
-        record = TourRecord(ids, np.array(heard, dtype=object), np.array(odometry),
-                            np.array(heading), self.nav.model.opt.timestep * self.nav.n_substeps,
-                            np.array(ranges))
+            record.place_id = resolve(self.recognizer, record.place_id)
+        inside = rooms[rooms >= 0]
+        self._room = int(inside[-1]) if inside.size else self._room
+        self._tour, self._tour_rooms = record, rooms
+        self._tour_end, self._tour_room = info["pose"].copy(), self._room
         return record, obs, info
 
     def _map_scores(self, tour: TourRecord, rooms: np.ndarray) -> dict[str, float]:
@@ -440,23 +455,3 @@ class GuidedTourEnv(NavTask, gym.utils.EzPickle):
                 "place_id": self._place, "room_id": info["room_id"],
                 "pose": info["pose"]}
 
-
-def clear_pose(plan: FloorPlan, pose: Sequence[float] | np.ndarray, clearance: float = RADIUS + 0.05
-               ) -> tuple[float, float, float]:
-    """``pose``, or where furniture moved onto it since, the nearest pose of the same room
-    (within 2 m) that clears it: the robot stays where the tour left it, not inside a desk."""
-    x, y, yaw = (float(v) for v in pose)
-
-    def clear(px: float, py: float) -> bool:
-        return all(abs(px - f.x) > f.hx + clearance or abs(py - f.y) > f.hy + clearance
-                   for f in plan.furniture)
-
-    if clear(x, y):
-        return x, y, yaw
-    room = plan.room_at(x, y)
-    for r in np.arange(0.1, 2.0, 0.1):
-        for a in np.linspace(0.0, 2 * math.pi, 16, endpoint=False):
-            px, py = x + r * math.cos(a), y + r * math.sin(a)
-            if plan.room_at(px, py) == room and plan.is_free(px, py, clearance):
-                return float(px), float(py), yaw
-    return x, y, yaw

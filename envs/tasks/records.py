@@ -1,5 +1,7 @@
 """What a ``PlaceNav-GuidedTour-v1`` episode records: the guided tour the robot observed
-(:class:`TourRecord`, all an agent may learn from) and each errand's outcome (:class:`Errand`)."""
+(:class:`TourRecord`, all an agent may learn from), what the tour leaves for errands
+(:class:`TourState`, so one tour serves several tracks) and each errand's outcome
+(:class:`Errand`)."""
 
 from __future__ import annotations
 
@@ -42,6 +44,28 @@ class TourRecord:
             for k in ("place_id", "heard", "odometry", "heading")) and (
             (self.ranges is None) == (other.ranges is None)) and (
             self.ranges is None or np.array_equal(self.ranges, np.asarray(other.ranges)))
+
+
+@dataclass(eq=False)
+class TourState:
+    """What a guided tour leaves behind, for errands to start from without driving it again
+    (``reset(options={"tour": state})``): one tour serves every track of a building.
+
+    Attributes:
+        record: the :class:`TourRecord`.
+        recognizer: the recognizer with the tour's map (a copy; ``None`` for the true rooms).
+        truth: the true rooms bound to the building (``None`` for a recognizer).
+        rooms: (T,) the true room of each tour step, for scoring.
+        pose: the robot's (x, y, heading) at the tour's end.
+        room: the last room the robot was in.
+    """
+
+    record: TourRecord
+    recognizer: Any
+    truth: Any
+    rooms: np.ndarray
+    pose: np.ndarray
+    room: int
 
 
 @dataclass

@@ -10,7 +10,7 @@ kind of sequence the seed papers record with a driven robot: frames with ground 
 from __future__ import annotations
 
 import math
-from collections.abc import Iterator
+from collections.abc import Callable, Iterator
 from dataclasses import dataclass
 from typing import Any, Protocol, cast
 
@@ -22,6 +22,7 @@ from numpy.typing import ArrayLike
 from placeclust.progress import progress as progress_bar
 
 from ..world.layout import FloorPlan
+from .records import TourRecord
 
 
 class Building(Protocol):
@@ -217,3 +218,46 @@ def record_tour(scene_seed: int, n_rooms: int, steps: int, seed: int = 0, width:
         return tour, building(env).plan
     finally:
         env.close()
+
+
+def guided_tour(env: gym.Env, plan: FloorPlan, read_place: Callable[[dict], int],
+                steps_per_room: int, name_after: int, seed: int, control_dt: float
+                ) -> tuple[TourRecord, np.ndarray, dict, dict]:
+    """The guide's tour of ``PlaceNav-GuidedTour-v1``: :func:`tour_steps` through every room,
+    ``steps_per_room`` a room, longer (at most three times) until the guide has named each,
+    ``name_after`` steps after the robot first enters it.
+
+    Args:
+        env: the env the tour drives (a ``PlaceNav-v0``, or it wrapped with a recognizer).
+        plan: its building.
+        read_place: the place of a step's ``info``, as the task reads it (-1 unknown).
+        steps_per_room, name_after, seed, control_dt: the tour's length, naming and route, and
+            seconds per step.
+
+    Returns:
+        The :class:`~envs.tasks.records.TourRecord` (raw places), the true room of each step
+        (-1 in a doorway), and the last step's observation and info.
+    """
+    planned = steps_per_room * len(plan.rooms)
+    places, heard, odometry, heading, ranges, rooms = [], [], [], [], [], []
+    named: set[int] = set()
+    run, last_room = 0, -1
+    for t, (obs, info) in enumerate(tour_steps(env, 3 * planned, seed=seed)):
+        room = info["room_id"]
+        run = run + 1 if room == last_room else 1
+        last_room = room
+        say = ""
+        if room >= 0 and room not in named and run >= name_after:
+            named.add(room)
+            say = plan.rooms[room].name
+        places.append(read_place(info))
+        heard.append(say)
+        odometry.append(obs["odometry"])
+        heading.append(obs["heading"])
+        ranges.append(obs["ranges"])
+        rooms.append(room)
+        if t + 1 >= planned and len(named) == len(plan.rooms):
+            break
+    record = TourRecord(np.array(places, np.int64), np.array(heard, dtype=object),
+                        np.array(odometry), np.array(heading), control_dt, np.array(ranges))
+    return record, np.array(rooms), obs, info

@@ -12,6 +12,7 @@ change is drawn from its own ``seed``, never from the scene's random stream, so 
 
 from __future__ import annotations
 
+import math
 from collections.abc import Sequence
 from dataclasses import dataclass, replace
 
@@ -20,6 +21,7 @@ import mujoco
 import numpy as np
 
 from .layout import FloorPlan, clear_of, draw_item
+from .robot import RADIUS
 
 
 @dataclass(frozen=True)
@@ -118,3 +120,24 @@ def degrade(frame: np.ndarray, changes: Changes, rng: np.random.Generator,
         noise = rng.normal(0.0, changes.camera_noise, out.shape)
         out = np.clip(out + noise, 0, 255).astype(np.uint8)
     return np.ascontiguousarray(out)
+
+
+def clear_pose(plan: FloorPlan, pose: Sequence[float] | np.ndarray, clearance: float = RADIUS + 0.05
+               ) -> tuple[float, float, float]:
+    """``pose``, or where furniture moved onto it since, the nearest pose of the same room
+    (within 2 m) that clears it: the robot stays where the tour left it, not inside a desk."""
+    x, y, yaw = (float(v) for v in pose)
+
+    def clear(px: float, py: float) -> bool:
+        return all(abs(px - f.x) > f.hx + clearance or abs(py - f.y) > f.hy + clearance
+                   for f in plan.furniture)
+
+    if clear(x, y):
+        return x, y, yaw
+    room = plan.room_at(x, y)
+    for r in np.arange(0.1, 2.0, 0.1):
+        for a in np.linspace(0.0, 2 * math.pi, 16, endpoint=False):
+            px, py = x + r * math.cos(a), y + r * math.sin(a)
+            if plan.room_at(px, py) == room and plan.is_free(px, py, clearance):
+                return float(px), float(py), yaw
+    return x, y, yaw

@@ -173,3 +173,28 @@ def test_a_track_refuses_an_option_that_contradicts_it(capsys):
                              "--recognizer", "examples.tiny_recognizer:HaarPlaces"])
     err = capsys.readouterr().err
     assert code == 2 and "cannot localize" in err and len(err.strip().splitlines()) == 1
+
+
+def test_tracks_of_one_tour_share_it_and_report_apart(tmp_path, capsys):
+    from envs.commands import leaderboard as board
+
+    argv = ["--scene-seeds", "0", "1", "--rooms", "3", "--goals-per-scene", "1",
+            "--tour-steps-per-room", "30", "--recognizers", "oracle", "none", "--track",
+            "continued", "carried", "--agent", "relocalizer", "--workers", "1",
+            "--out", str(tmp_path)]
+    assert board.main(argv) == 0
+    out = capsys.readouterr().out
+    assert "| recognizer | continued | carried | suite score (mean) |" in out
+    # one job, so one tour, per recognizer and building, serving both tracks
+    assert len(list((tmp_path / "runs").glob("*.json"))) == 4
+    docs = {t: json.loads((tmp_path / t / "results.json").read_text())
+            for t in ("continued", "carried")}
+    assert docs["carried"]["settings"]["task"] == {"tour_steps_per_room": 30,
+                                                   "errand_start": "carried"}
+    maps = [[(r["scene_seed"], r["recognizer"], r["precision"], r["n_places"])
+             for r in d["buildings"]] for d in docs.values()]
+    assert maps[0] == maps[1]  # the same tours' maps
+    first = (tmp_path / "carried" / "results.json").read_text()
+    assert board.main(argv) == 0  # resumed: every job kept, the same results
+    assert json.loads((tmp_path / "carried" / "results.json").read_text())["buildings"] == \
+        json.loads(first)["buildings"]

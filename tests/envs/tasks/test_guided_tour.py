@@ -194,3 +194,24 @@ def test_conditions_and_learning_are_checked_before_the_tour():
         GuidedTourEnv(recognizer="examples.tiny_recognizer:HaarPlaces", n_rooms=3,
                       errand_learn=False)
     GuidedTourEnv(recognizer="random", n_rooms=3, errand_learn=False).close()  # no map to fix
+
+
+def test_one_tour_serves_the_errands_of_another_track(make_tour):
+    small = {"panorama_width": 128, "panorama_height": 32}
+    toured = make_tour(recognizer="panorama-orb", **small)
+    _, info = toured.reset(seed=6)
+    state = toured.unwrapped.tour_state()
+    n_places = state.recognizer.n_places
+    # the same building's carried errands, from that tour, and from a tour of their own
+    resumed = make_tour(recognizer="panorama-orb", errand_start="carried", **small)
+    fresh = make_tour(recognizer="panorama-orb", errand_start="carried", **small)
+    o_res, i_res = resumed.reset(seed=6, options={"tour": state})
+    o_new, i_new = fresh.reset(seed=6)
+    assert i_res["tour"] is state.record and i_res["map"] == info["map"] == i_new["map"]
+    assert o_res["goal"] == o_new["goal"] and np.allclose(i_res["pose"], i_new["pose"])
+    assert resumed.unwrapped.recognizer is not state.recognizer
+    for _ in range(5):
+        resumed.step(np.array([0.5, 0.2], np.float32))
+    assert state.recognizer.n_places == n_places  # the state is a copy, left as it was
+    with pytest.raises(ValueError, match="another kind of recognizer"):
+        make_tour(recognizer="oracle").reset(seed=6, options={"tour": state})
