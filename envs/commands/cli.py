@@ -12,7 +12,7 @@ import json
 import shlex
 import sys
 from pathlib import Path
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING, Any, NoReturn
 
 import numpy as np
 
@@ -33,21 +33,32 @@ def load_tour(path: str) -> tuple[np.ndarray, np.ndarray]:
     """``(frames, room)`` from a ``tour.npz``, with clear errors for missing or wrong arrays."""
     p = Path(path)
     if not p.is_file():
-        raise SystemExit(f"error: tour file {path} does not exist")
+        _bad_input(f"tour file {path} does not exist")
+    with open(p, "rb") as f:
+        head = f.read(4)
+    if not head:
+        _bad_input(f"tour file {path} is empty")
+    if head != b"PK\x03\x04":  # a .npz is a zip archive of .npy arrays
+        _bad_input(f"{path} is not a .npz archive (as placeclust tour writes)")
     try:
         z = np.load(p, allow_pickle=False)
-    except Exception as exc:
-        raise SystemExit(f"error: cannot read {path} as a .npz file: {exc}") from exc
-    for key in ("frames", "room"):
-        if key not in z.files:
-            raise SystemExit(f"error: {path} has no '{key}' array (it has {z.files})")
-    frames, room = z["frames"], z["room"]
+        for key in ("frames", "room"):
+            if key not in z.files:
+                _bad_input(f"{path} has no '{key}' array (it has {z.files})")
+        frames, room = z["frames"], z["room"]
+    except (OSError, ValueError, EOFError) as exc:  # a damaged archive, pickled arrays
+        _bad_input(f"cannot read {path} as a .npz archive: {exc}")
     if frames.ndim not in (3, 4) or frames.dtype != np.uint8:
-        raise SystemExit(f"error: 'frames' must be uint8 (T, H, W[, 3]), got {frames.dtype} "
-                         f"{frames.shape}")
+        _bad_input(f"'frames' must be uint8 (T, H, W[, 3]), got {frames.dtype} {frames.shape}")
     if room.shape != (len(frames),):
-        raise SystemExit(f"error: 'room' has shape {room.shape}, expected ({len(frames)},)")
+        _bad_input(f"'room' has shape {room.shape}, expected ({len(frames)},)")
     return frames, room
+
+
+def _bad_input(message: str) -> NoReturn:
+    """One line naming the problem on standard error, and exit status 2 (bad input)."""
+    print(f"error: {message}", file=sys.stderr)
+    raise SystemExit(2)
 
 
 def cmd_tour(args: argparse.Namespace) -> None:

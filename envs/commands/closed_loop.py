@@ -27,6 +27,7 @@ from __future__ import annotations
 import argparse
 import functools
 import hashlib
+import importlib.util
 import inspect
 import json
 import sys
@@ -139,6 +140,29 @@ def run_scene(scene_seed: int, n_rooms: int = 6, recognizer: str = "panorama",
                       "seconds": time.perf_counter() - start}
     return {**head, "tracks": rows,
             "seconds": float(sum(r["seconds"] for r in rows.values()))}
+
+
+def check_agent(agent: str, policy: Path | None) -> None:
+    """Check what an agent needs before any job runs (and before any output folder is made):
+    the ``ppo`` agent needs stable-baselines3 (the ``train`` extra) and its policy file.
+
+    Raises:
+        ValueError: stable-baselines3 is missing; the line says which extra brings it.
+        FileNotFoundError: no such policy file; the line names the shipped policies.
+    """
+    if agent != "ppo":
+        return
+    if importlib.util.find_spec("stable_baselines3") is None:
+        raise ValueError("the ppo agent needs stable-baselines3: pip install 'placeclust[train]' "
+                         "(with torch==2.13.0 first on a CPU machine)")
+    path = Path(policy or POLICY)
+    if not path.is_file():
+        shipped = sorted(p.parent.name for p in (ASSETS / "policies" / "tour").glob(
+            "*/best_model.zip"))
+        names = f", NAME one of {shipped}" if shipped else " (a clone's)"
+        raise FileNotFoundError(f"no policy file {path}; the shipped errand policies are "
+                                f"{ASSETS / 'policies' / 'tour'}/NAME/best_model.zip{names}; "
+                                "or train one with python -m train.train")
 
 
 def _errands(env: gym.Env, episode: int, agent: str, seed: int, learned: LearnedAgent | None,
@@ -461,6 +485,7 @@ def main(argv: list[str] | None = None, prog: str = "placeclust errands") -> int
         p.error("--goals-per-scene and --tour-steps-per-room must be positive, got "
                 f"{args.goals_per_scene} and {args.tour_steps_per_room}")
     try:
+        check_agent(args.agent, args.policy)
         params = recognizer_params([args.recognizer], args.preset, args.param)
         task = task_from_args(args)
         if task.get("errand_learn") is False and not localizes(args.recognizer,

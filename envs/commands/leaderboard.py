@@ -45,6 +45,7 @@ from .closed_loop import (
     ERRAND_AGENTS,
     add_recognizer_arguments,
     add_task_arguments,
+    check_agent,
     make_jobs,
     recognizer_params,
     run_jobs,
@@ -184,6 +185,7 @@ def main(argv: list[str] | None = None, prog: str = "placeclust leaderboard"
     seeds, settings = _settings(args, p, argv)
     localize = any(st["task"].get("errand_learn") is False for st in settings.values())
     try:
+        check_agent(args.agent, args.policy)
         params = recognizer_params(args.recognizers, args.preset, args.param)
         skipped = [r for r in args.recognizers if localize and not localizes(r, params[r])]
         args.recognizers = [r for r in args.recognizers if r not in skipped]

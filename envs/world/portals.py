@@ -11,8 +11,8 @@ which the next room can be seen, and a geom is kept when its footprint meets an 
 
 The test is conservative: doorways count as their full width (the jambs narrow them), arcs get a
 small margin, and a camera standing within a wall's thickness of another room sees all of it. So
-the rendered pixels are those of drawing every geom; ``tests/envs/test_rendering.py`` checks that
-from room centres, doorways and spots beside walls of several buildings.
+the rendered pixels are those of drawing every geom; ``tests/envs/world/test_rendering.py``
+checks that from room centres, doorways and spots beside walls of several buildings.
 """
 
 from __future__ import annotations

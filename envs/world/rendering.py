@@ -11,7 +11,7 @@ frustum, planes that face it and, given the floor plan, what the doorways leave 
 (:mod:`envs.world.portals`): before each camera's scene update, the others are moved to a hidden
 geom group (``mjv_updateScene`` reads ``model.geom_group`` every call and costs ~2 µs). The tests
 are conservative, so the picture is the same as without culling
-(``tests/envs/test_rendering.py``).
+(``tests/envs/world/test_rendering.py``).
 
 ``MUJOCO_GL`` must be set before ``mujoco`` is first imported; :mod:`envs` sets it to ``egl``
 unless the user chose a backend.

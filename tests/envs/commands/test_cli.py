@@ -166,3 +166,19 @@ def test_whole_commands_run_under_placeclust(capsys, tmp_path):
     assert exc.value.code == 2 and "'online' was renamed 'panorama'" in capsys.readouterr().err
     listed = build_parser().format_help()
     assert all(name in listed for name in COMMANDS)
+
+
+@pytest.mark.parametrize("content, message", [
+    (b"", "is empty"),
+    (b"frames,room\n", "is not a .npz archive"),
+    (None, "does not exist"),
+])
+def test_a_tour_file_that_is_not_one_is_one_line_and_exit_2(tmp_path, capsys, content, message):
+    tour = tmp_path / "tour.npz"
+    if content is not None:
+        tour.write_bytes(content)
+    with pytest.raises(SystemExit) as exc:
+        main(["cluster", "--tour", str(tour), "--out", str(tmp_path / "o")])
+    err = capsys.readouterr().err
+    assert exc.value.code == 2 and message in err and len(err.strip().splitlines()) == 1
+    assert not (tmp_path / "o").exists()

@@ -198,3 +198,28 @@ def test_tracks_of_one_tour_share_it_and_report_apart(tmp_path, capsys):
     assert board.main(argv) == 0  # resumed: every job kept, the same results
     assert json.loads((tmp_path / "carried" / "results.json").read_text())["buildings"] == \
         json.loads(first)["buildings"]
+
+
+def test_a_missing_policy_is_named_before_any_folder_is_made(tmp_path, capsys):
+    out = tmp_path / "out"
+    code = closed_loop.main(["--scene-seeds", "0", "--recognizer", "oracle", "--agent", "ppo",
+                             "--policy", str(tmp_path / "none.zip"), "--out", str(out)])
+    err = capsys.readouterr().err
+    assert code == 2 and len(err.strip().splitlines()) == 1
+    assert "no policy file" in err and "carried_place" in err  # the shipped ones, named
+    assert not out.exists()
+
+
+def test_the_ppo_agent_without_stable_baselines3_names_the_extra(tmp_path, capsys, monkeypatch):
+    import importlib.util
+
+    real = importlib.util.find_spec
+    monkeypatch.setattr(importlib.util, "find_spec",
+                        lambda name, *a: None if name == "stable_baselines3" else real(name, *a))
+    from envs.commands import leaderboard as board
+
+    code = board.main(["--scene-seeds", "0", "--recognizers", "oracle", "--agent", "ppo",
+                       "--out", str(tmp_path / "out")])
+    err = capsys.readouterr().err
+    assert code == 2 and "pip install 'placeclust[train]'" in err
+    assert not (tmp_path / "out").exists()
