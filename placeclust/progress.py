@@ -36,6 +36,10 @@ def progress(iterable: Iterable | None = None, *, total: int | None = None, desc
         >>> lines = log.getvalue().splitlines()
         >>> len(lines), lines[1].split(",")[0], lines[-1].split(" in ")[0]
         (4, 'demo: 4/8 frames (50%)', 'demo: 8 frames')
+        >>> log = io.StringIO()
+        >>> _ = list(progress(range(7), desc="jobs", unit="job", file=log))
+        >>> [line.split(",")[0] for line in log.getvalue().splitlines()][:2]
+        ['jobs: 2/7 jobs (28%)', 'jobs: 4/7 jobs (57%)']
     """
     file = sys.stderr if file is None else file
     if total is None and isinstance(iterable, Sized):
@@ -70,10 +74,12 @@ class LogProgress:
 
     def update(self, n: int = 1) -> None:
         self.n += n
+        crossed = False  # one line however many quarters one update crosses
         while self.total and self._quarter < 4 and 4 * self.n >= self._quarter * self.total:
-            self._say(f"{self.n}/{self.total} {self.unit}s ({25 * self._quarter}%), "
+            self._quarter, crossed = self._quarter + 1, True
+        if crossed and self.total and self.n < self.total:  # the end has close()'s line
+            self._say(f"{self.n}/{self.total} {self.unit}s ({100 * self.n // self.total}%), "
                       f"{time.perf_counter() - self._start:.1f} s")
-            self._quarter += 1
 
     def close(self) -> None:
         if not self._closed:

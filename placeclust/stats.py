@@ -67,7 +67,11 @@ class Estimate:
         return not self.low <= value <= self.high
 
     def text(self, digits: int = 2) -> str:
-        """``"0.82 [0.68, 0.91]"``."""
+        """``"0.82 [0.68, 0.91]"``; with too few buildings to resample, says so instead of
+        ``[nan, nan]``: ``"0.82 [1 building: no interval]"``."""
+        if not (math.isfinite(self.low) and math.isfinite(self.high)):
+            many = "building" if self.n_buildings == 1 else "buildings"
+            return f"{self.mean:.{digits}f} [{self.n_buildings} {many}: no interval]"
         return f"{self.mean:.{digits}f} [{self.low:.{digits}f}, {self.high:.{digits}f}]"
 
     def as_dict(self) -> dict[str, float]:

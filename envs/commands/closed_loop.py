@@ -287,7 +287,12 @@ def run_jobs(jobs: list[dict[str, Any]], out: Path | None = None, workers: int =
               "or rendering changed since) and run again", file=sys.stderr)
     todo = sorted((j for j in jobs if job_key(j) not in done),
                   key=lambda j: COST.get(j["recognizer"], 0))
-    bar = progress_bar(total=len(todo), enabled=progress, desc="errands", unit="building")
+    if progress:  # at once: the first job's line comes only after its tour
+        reused = f", {len(done)} kept from an earlier run in {out}" if done else ""
+        print(f"errands: {len(todo)} jobs to run{reused} (a job: one recognizer's guided tour "
+              f"of one building, then its errands; {workers} at a time)", file=sys.stderr,
+              flush=True)
+    bar = progress_bar(total=len(todo), enabled=progress, desc="errands", unit="job")
     for job, row in run_all(_run_job, todo, workers, executor):
         row = {**row, "key": job_key(job), "policy": job.get("policy")}
         done[job_key(job)] = store.put(row) if store is not None else row

@@ -256,7 +256,8 @@ def _report(args: argparse.Namespace, prog: str, argv: list[str], seeds: list[in
 def _describe(args: argparse.Namespace, seeds: list[int], summaries: list[dict[str, Any]],
               prov: dict[str, Any], track: str | None = None) -> str:
     """The paragraph above the table: what ran, on what, for how long, and how sure."""
-    rho = rank_agreement(summaries) if len(summaries) > 2 else float("nan")
+    rho = (f"{rank_agreement(summaries):.2f}" if len(summaries) > 2
+           else "too few recognizers for one (3 at least)")
     minutes = sum(s["seconds"] for s in summaries) / 60
     where = f"{args.split} split, scene seeds" if args.split else "scene seeds"
     span = seed_span(seeds)
@@ -275,7 +276,8 @@ def _describe(args: argparse.Namespace, seeds: list[int], summaries: list[dict[s
             f"Each figure: the mean over errands (tours for the map's figures) with its 95% "
             f"interval from a bootstrap over buildings. {redrawn} of {errands} errands were "
             "redrawn to start at least 1 m of walking from their goal. Spearman's rank "
-            f"correlation of success with NMI ({len(summaries)} points, no interval): {rho:.2f}.")
+            f"correlation of success with NMI ({len(summaries)} points, no interval): {rho}."
+            + (" One building: no interval can be drawn from it." if len(seeds) < 2 else ""))
 
 
 def _policy(args: argparse.Namespace) -> str:

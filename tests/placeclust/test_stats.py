@@ -143,3 +143,8 @@ def test_a_paired_suite_score_needs_the_pairing():
     assert paired.low > 0
     with pytest.raises(ValueError, match="paired tracks differ"):
         suite_score(a, f, c, against={"a": b["a"]})
+
+
+def test_one_building_says_it_has_no_interval_instead_of_nan():
+    assert interval([[1, 0, 1, 1]]).text() == "0.75 [1 building: no interval]"
+    assert "nan" not in interval([[1, 0]]).text(3)

@@ -223,3 +223,15 @@ def test_the_ppo_agent_without_stable_baselines3_names_the_extra(tmp_path, capsy
     err = capsys.readouterr().err
     assert code == 2 and "pip install 'placeclust[train]'" in err
     assert not (tmp_path / "out").exists()
+
+
+def test_a_run_says_at_once_what_it_will_run_and_what_it_kept(tmp_path, capsys):
+    jobs = [{"scene_seed": s, "recognizer": "oracle", "goals": 1, "seed": 0, "agent": "planner",
+             "n_rooms": 3, "tour_steps_per_room": 30} for s in (0, 1)]
+    run_jobs(jobs[:1], tmp_path)  # a partial run: one job of two
+    first = capsys.readouterr().err.splitlines()
+    assert first[0].startswith("errands: 1 jobs to run (a job: one recognizer's guided tour")
+    run_jobs(jobs, tmp_path)
+    err = capsys.readouterr().err.splitlines()
+    assert err[0].startswith(f"errands: 1 jobs to run, 1 kept from an earlier run in {tmp_path}")
+    assert err[-1].startswith("errands: 1 jobs in")  # counted as jobs, not buildings
