@@ -1,7 +1,8 @@
 """The Gymnasium tasks and wrappers: ``PlaceNav-v0`` and the tasks built on it.
 
-``place_nav`` is the base env (its docstring is the spec); every task with a goal subclasses it
-or wraps it and takes its distances, shaping and success from ``goals``; ``place_id`` runs a
+``place_nav`` is the base env (its docstring is the spec); every task with a goal owns one
+(``goals.NavTask``, never a subclass) and takes its distances, shaping and success from
+``goals``, whose ``HeardGoal`` makes the guided tour's goal one-hot for stable-baselines3; ``place_id`` runs a
 recognizer inside the loop; ``tour`` drives scripted tours with ground truth; ``vector`` makes
 vector envs.
 """

@@ -159,3 +159,51 @@ class NavTask(gym.Env):
 
     def close(self) -> None:
         self.nav.close()
+
+
+class HeardGoal(gym.ObservationWrapper, gym.utils.RecordConstructorArgs):
+    """``PlaceNav-GuidedTour-v1`` for stable-baselines3: the errand's goal, a room *name*
+    (``Text``, which SB3's policies cannot take), as a one-hot over the names in the order the
+    guide said them on this episode's tour.
+
+    The order is the tour's, not the building's: the agent learns nothing it was not told (the
+    guide's first name is index 0 in every building). ``Box(0, 1, (max_rooms,), float32)``;
+    ``max_rooms`` (default 32, the most rooms a building has) bounds the names.
+
+    Examples:
+        >>> import gymnasium as gym
+        >>> import envs
+        >>> from stable_baselines3.common.env_checker import check_env
+        >>> env = HeardGoal(gym.make("PlaceNav-GuidedTour-v1", recognizer="oracle", n_rooms=3,
+        ...                          n_errands=1, tour_steps_per_room=40))
+        >>> obs, info = env.reset(seed=0)
+        >>> obs["goal"].shape, info["named"].index(info["goal"]) == int(obs["goal"].argmax())
+        ((32,), True)
+        >>> check_env(env)  # SB3's own checks; MultiInputPolicy trains on it
+        >>> env.close()
+    """
+
+    def __init__(self, env: gym.Env, max_rooms: int = 32) -> None:
+        gym.utils.RecordConstructorArgs.__init__(self, max_rooms=max_rooms)
+        gym.ObservationWrapper.__init__(self, env)
+        space = env.observation_space
+        if not isinstance(space, spaces.Dict) or "goal" not in space.spaces:
+            raise ValueError("HeardGoal wraps PlaceNav-GuidedTour-v1 (a Dict with a 'goal')")
+        self.max_rooms = max_rooms
+        self.observation_space = spaces.Dict(
+            {**space.spaces, "goal": spaces.Box(0.0, 1.0, (max_rooms,), np.float32)})
+        self._named: list[str] = []
+
+    def reset(self, *, seed: int | None = None, options: dict | None = None
+              ) -> tuple[dict, dict]:
+        obs, info = self.env.reset(seed=seed, options=options)
+        self._named = list(info["named"])
+        if len(self._named) > self.max_rooms:
+            raise ValueError(f"the guide named {len(self._named)} rooms; HeardGoal was made "
+                             f"for at most max_rooms={self.max_rooms}")
+        return self.observation(obs), info
+
+    def observation(self, observation: dict) -> dict:
+        one_hot = np.zeros(self.max_rooms, np.float32)
+        one_hot[self._named.index(str(observation["goal"]))] = 1.0
+        return {**observation, "goal": one_hot}
