@@ -7,8 +7,8 @@ It needs no simulator: it grows a map of synthetic places and times the online r
 each size on frames it tracks (the current place) and on frames of a random earlier place (a
 loop closure through the relocalization index), and apart from the whole frame, the
 recognizer's own work: the frame less its feature detection, which does not depend on the map.
-Quality on simulated tours is ``placeclust bench`` (``envs/bench.py``), which also runs this
-sweep for its plot.
+Quality on simulated tours is ``placeclust bench`` (``envs/commands/bench.py``), which also
+runs this sweep for its plot.
 """
 
 from __future__ import annotations

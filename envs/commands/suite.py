@@ -205,6 +205,25 @@ def render_fingerprint() -> str:
     return digest.hexdigest()[:16]
 
 
+def renderer_info() -> dict[str, str]:
+    """What draws the pixels here: OpenGL's version and renderer strings (Mesa's version and
+    llvmpipe on a CPU machine) and MuJoCo's version. A stored render fingerprint holds for
+    these (``tests/envs/world/render_reference.json``)."""
+    import mujoco
+    from OpenGL import GL
+
+    from ..tasks import place_nav  # noqa: F401  (its package sets MUJOCO_GL first)
+
+    context = mujoco.GLContext(16, 16)
+    try:
+        context.make_current()
+        return {"gl_version": GL.glGetString(GL.GL_VERSION).decode(),
+                "gl_renderer": GL.glGetString(GL.GL_RENDERER).decode(),
+                "mujoco": mujoco.__version__}
+    finally:
+        context.free()
+
+
 #: the code every benchmark result comes from: the library and the simulator's world, tasks
 #: and agents (relative to this package: ``envs``, or ``placeclust_envs`` in a wheel)
 CODE_PACKAGES = ("placeclust", "..world", "..tasks", "..agents")

@@ -38,19 +38,24 @@ def test_culling_draws_the_same_panorama_as_drawing_everything(make_env, world):
     env = make_env(**world).unwrapped
     env.reset(seed=0)
     everything = SceneRenderer(env.model, env.scene.camera_names, env.geometry, cull=False)
+    # culled explicitly, not the renderer's default: the test compares the two whatever it is
+    culling = SceneRenderer(env.model, env.scene.camera_names, env.geometry, plan=env.plan,
+                            geom_rooms=env.scene.geom_rooms, cull=True)
     try:
         for pose in _poses(env.plan, np.random.default_rng(0)):
             env.reset(options={"pose": pose})
-            culled = env.renderer.panorama(env.data)
-            np.testing.assert_array_equal(culled, everything.panorama(env.data), err_msg=pose)
+            np.testing.assert_array_equal(culling.panorama(env.data),
+                                          everything.panorama(env.data), err_msg=pose)
     finally:
         everything.close()
+        culling.close()
 
 
 def test_culling_draws_the_same_forward_image_as_drawing_everything(make_env):
     env = make_env(scene_seed=1000, n_rooms=8, camera="forward", image_width=160,
                    image_height=120).unwrapped
     env.reset(seed=0)
+    assert env.renderer._culling  # noqa: SLF001  the env's own images are the culled ones
     everything = SceneRenderer(env.model, env.scene.camera_names, env.geometry, cull=False)
     try:
         for pose in _poses(env.plan, np.random.default_rng(1)):
@@ -122,3 +127,20 @@ def test_a_wall_the_robot_stands_against_is_not_see_through(make_env):
     obs, _ = env.reset(options={"pose": (room.x0 + 0.25, room.center[1], np.pi)})
     ahead = obs["panorama"][16:48, 126:130]  # the middle rows of the column facing the wall
     assert (ahead.max(axis=-1) > 0).all()  # no background shows through
+
+
+def test_the_renderer_draws_the_stored_reference_pixels():
+    """The render fingerprint of the reference frames, stored with what drew them: on the same
+    Mesa and MuJoCo a change that moves one pixel of a benchmark's worlds fails here (and is
+    then a new reference, and a new suite version's business)."""
+    import json
+    from pathlib import Path
+
+    from envs.commands.suite import render_fingerprint, renderer_info
+
+    stored = json.loads((Path(__file__).parent / "render_reference.json").read_text())
+    here = renderer_info()
+    drawn_by = {k: stored[k] for k in here}
+    if here != drawn_by:
+        pytest.skip(f"the reference was drawn by {drawn_by}; this machine has {here}")
+    assert render_fingerprint() == stored["render_fingerprint"]
