@@ -165,3 +165,42 @@ def test_the_suite_score_refuses_a_track_without_its_floor_or_twice(tmp_path, ca
     assert "no 'none' rows" in capsys.readouterr().err
     assert compare.score_main([str(path), str(path), "--floor", "good"]) == 2
     assert "two files of track 'carried'" in capsys.readouterr().err
+
+
+def test_buildings_pair_by_seed_whatever_their_order_and_only_where_shared(tmp_path, capsys):
+    # A on buildings 0-5 in one order, B on 2-7 in another: pairs are 2-5, building by building
+    rows_a = [_row("a", s, [1, 1, 0, 0] if s % 2 else [1, 1, 1, 1], 0.9) for s in (5, 0, 3, 1,
+                                                                                   4, 2)]
+    rows_b = [_row("b", s, [1, 0, 0, 0] if s % 2 else [1, 1, 1, 0], 0.9) for s in (7, 2, 6, 5,
+                                                                                   3, 4)]
+    paths = []
+    for name, rows, seeds in (("a", rows_a, [5, 0, 3, 1, 4, 2]), ("b", rows_b, [7, 2, 6, 5, 3,
+                                                                                   4])):
+        paths.append(tmp_path / f"{name}.json")
+        write_results(paths[-1], rows, [name], {**SETTINGS, "scene_seeds": seeds}, PROVENANCE)
+    ra, rb = compare.paired_rows(load_results(paths[0]), load_results(paths[1]), "a", "b")
+    assert [r["scene_seed"] for r in ra] == [r["scene_seed"] for r in rb] == [2, 3, 4, 5]
+    assert compare.main([*map(str, paths), "--force"]) == 0
+    out = capsys.readouterr().out
+    # per shared building a − b: +0.25 (even) and +0.25 (odd): 0.250 with no spread
+    assert "Paired on 4 buildings (scene seeds 2–5)" in out
+    assert "| success_rate | 0.750 [0.500, 1.000] | 0.500 [0.250, 0.750] | 0.250 [0.250, 0.250]" \
+        in out
+
+
+def test_a_difference_whose_interval_straddles_zero_is_undecided(tmp_path, capsys):
+    # twelve buildings where a and b take turns to win: their difference's interval holds 0
+    rows = []
+    for s in range(12):
+        wins = s % 2 == 0
+        rows.append(_row("a", s, [1, 1, 1, 0] if wins else [1, 0, 0, 0], 0.9))
+        rows.append(_row("b", s, [1, 0, 0, 0] if wins else [1, 1, 1, 0], 0.9))
+    path = tmp_path / "r.json"
+    write_results(path, rows, ["a", "b"], {**SETTINGS, "scene_seeds": list(range(12))},
+                  PROVENANCE)
+    assert compare.main([str(path), str(path), "--a", "a", "--b", "b"]) == 0
+    out = capsys.readouterr().out
+    line = next(li for li in out.splitlines() if li.startswith("| success_rate"))
+    low, high = (float(x) for x in line.split("|")[4].split("[")[1].rstrip("] ").split(","))
+    assert low < 0 < high
+    assert "cannot decide between a and b" in out and "read it as a pilot" not in out
