@@ -13,9 +13,13 @@ path and compass (:class:`ScanMap`). At each step it asks two questions of its p
 When either says no for ``PATIENCE`` steps in a row, or at the first step of an errand, it
 searches the tour's steps *in the reported place* for the position whose scan fits best
 (the compass fixes the orientation, so only the position is searched) and moves its belief
-there. The recognizer's place decides where to search: in identical offices along a corridor
-the scans fit every office alike, and only the place id tells which one the robot is in. The
-agent still sees no pixels, so the closed loop keeps scoring the recognizer.
+there if it fits clearly better, or, at an errand's start, if the reported place says so. A
+move under ``JUMP`` only mends drift; a larger one is a new start, planned again from the
+reported place. Mid-errand the reported place alone moves nothing: a recognizer aliasing for a
+few frames must not throw the robot across the building. The recognizer's place decides
+where to search: in identical offices along a corridor the scans fit every office alike, and
+only the place id tells which one the robot is in. The agent still sees no pixels, so the
+closed loop keeps scoring the recognizer.
 
 Examples:
     >>> import gymnasium as gym
@@ -51,6 +55,9 @@ RESIDUAL = 0.1
 NEAR, NEAR_MISFIT = 1.0, 0.3
 #: m: how much better a searched position must fit to replace the belief
 MARGIN = 0.01
+#: m: a correction this small only mends the drift; a larger one is a new start (the robot
+#: was carried or lost), and the route is planned again from the reported place
+JUMP = 1.0
 #: m: an endpoint farther than this from the tour's counts as this far
 CLIP = 0.5
 #: m: a reported place whose tour path is farther than this is not where the robot believes
@@ -196,9 +203,15 @@ class RelocalizingPlanner(TourPlanner):
                  else np.arange(len(self.path)))
         position, fit = self.scans.locate(self.yaw, ranges, steps)
         self.lost = fit > RESIDUAL
-        if not self.lost and (fit < misfit - MARGIN or far):
-            self.pos = position
-            self.place = place if known else int(self.places[self._nearest_step(steps)])
-            self._hop, self._controller = None, None
-            self._passed.clear()
-            self.relocalized += 1
+        # mid-errand, the reported place alone moves nothing: a recognizer aliasing for a few
+        # frames would throw the robot across the building; the scan must prefer it too
+        if self.lost or not (fit < misfit - MARGIN or (far and new_errand)):
+            return
+        moved = float(np.linalg.norm(position - self.pos))
+        self.pos = position
+        if moved < JUMP:  # drift corrected: the route and the places just left still hold
+            return
+        self.place = place if known else int(self.places[self._nearest_step(steps)])
+        self._hop, self._controller = None, None
+        self._passed.clear()
+        self.relocalized += 1

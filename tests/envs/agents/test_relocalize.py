@@ -4,7 +4,7 @@ import gymnasium as gym
 import numpy as np
 import pytest
 
-from envs.agents.relocalize import RelocalizingPlanner, ScanMap, endpoints
+from envs.agents.relocalize import RESIDUAL, RelocalizingPlanner, ScanMap, endpoints
 from envs.agents.teach_repeat import TourPlanner
 from envs.world.robot import MAX_RANGE, N_RANGES, RADIUS
 
@@ -92,3 +92,34 @@ def test_the_kidnapped_robot_finds_its_way_where_the_plain_planner_is_lost():
 
 def test_errands_continued_from_the_tour_still_succeed():
     assert all(_errands(RelocalizingPlanner, "continue"))
+
+
+def test_a_small_correction_keeps_the_route_and_a_large_one_replans():
+    env = gym.make("PlaceNav-GuidedTour-v1", recognizer="oracle", scene_seed=1003, n_rooms=4,
+                   n_errands=2, tour_steps_per_room=100)
+    try:
+        obs, info = env.reset(seed=0)
+        planner = RelocalizingPlanner(unknown=env.unwrapped.max_places)
+        planner.reset(info["tour"], obs)
+        for _ in range(200):  # under way, with a route, where the scan fits the tour's well
+            obs, *_ = env.step(planner.act(obs))
+            ranges = np.asarray(obs["ranges"], float)
+            if planner._hop and planner.scans.residual(planner.pos, planner.yaw,
+                                                       ranges) < RESIDUAL / 2:
+                break
+        truth, hop = planner.pos.copy(), planner._hop
+        assert hop is not None
+        # drift under a metre, enough that the scan misfits there
+        drift = next(d for d in ([0.5, 0], [0, 0.5], [0.7, 0.3], [-0.5, 0.5], [0.8, 0])
+                     if planner.scans.residual(truth + d, planner.yaw, ranges) > RESIDUAL)
+        planner.pos = truth + drift
+        for _ in range(4):
+            planner._check_pose(obs)
+        assert np.linalg.norm(planner.pos - truth) < 0.15  # mended
+        assert planner._hop == hop and planner.relocalized == 0  # the route stands
+        planner.pos = truth + [3.0, 3.0]  # far off: a new start
+        for _ in range(4):
+            planner._check_pose(obs)
+        assert np.linalg.norm(planner.pos - truth) < 0.15 and planner.relocalized == 1
+    finally:
+        env.close()
