@@ -310,8 +310,7 @@ def pair_table(docs: dict[str, dict[str, Any]], a: str, b: str, floor: str, ceil
         rows_a, rows_b = paired_rows(doc, doc, a, b)
         ga[track], gb[track] = groups(rows_a, "success_rate"), groups(rows_b, "success_rate")
         norm = highs[track] - lows[track]
-        diff = suite_score({track: ga[track]}, {track: 0.0}, {track: 1.0},
-                           against={track: gb[track]})
+        diff = paired_difference(ga[track], gb[track])  # as placeclust compare gives it
         p = probability_of_improvement(ga[track], gb[track])
         better.append(p.mean)
         lines.append(f"| {track} | {diff.text(3)} (normalized {diff.mean / norm:+.3f}) | "
