@@ -187,10 +187,12 @@ class RelocalizingPlanner(TourPlanner):
         known = place != self.unknown and place in self._place_trees
         new_errand = str(obs["goal"]) != self._errand
         self._errand = str(obs["goal"])
-        misfit = self.scans.residual(self.pos, self.yaw, ranges)
+        beams = self.scans.misfits(self.pos[None], self.yaw, ranges)[0]  # once a step
+        misfit = float(beams.mean())
+        near = ranges < NEAR
         far = known and self._place_trees[place].query(self.pos)[0] > FAR
         doubt = (misfit > RESIDUAL or far
-                 or self.scans.near_misfit(self.pos, self.yaw, ranges) > NEAR_MISFIT)
+                 or (near.any() and float(beams[near].max()) > NEAR_MISFIT))
         self._doubt = self._doubt + 1 if doubt else 0
         if not doubt:
             self.lost = False
