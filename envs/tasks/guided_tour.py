@@ -325,11 +325,7 @@ class GuidedTourEnv(NavTask, gym.utils.EzPickle):
         self._tour, self._tour_rooms = state.record, state.rooms
         self._tour_end, self._tour_room = state.pose, state.room
         self._room = state.room
-        obs, info = self.nav.reset(seed=seed, options={"pose": state.pose})
-        if self._place_ids is not None:
-            obs = self._place_ids.observation(obs)
-            info = {**info, **self._place_ids.last_info}
-        self._read_place(info)
+        obs, info = self._see(*self.nav.reset(seed=seed, options={"pose": state.pose}))
         return state.record, obs, info
 
     # -- the condition ---------------------------------------------------------------------
@@ -348,8 +344,13 @@ class GuidedTourEnv(NavTask, gym.utils.EzPickle):
         """Move to the errands' world at the tour's last pose; the frame seen there, under the
         errands' condition, and its place (the map is the tour's, still learning or not)."""
         self._use(self.errand_nav, learn=self.errand_learn)
-        obs, info = self.nav.reset(seed=int(self.np_random.integers(2**31)),
-                                   options={"pose": clear_pose(self.nav.plan, pose)})
+        return self._see(*self.nav.reset(seed=int(self.np_random.integers(2**31)),
+                                         options={"pose": clear_pose(self.nav.plan, pose)}))
+
+    def _see(self, obs: dict[str, Any], info: dict[str, Any]
+             ) -> tuple[dict[str, Any], dict[str, Any]]:
+        """``nav``'s observation and info of a robot placed without a step: the recognizer
+        takes in the frame (learning or not, as set) and its place is read."""
         if self._place_ids is not None:
             obs = self._place_ids.observation(obs)
             info = {**info, **self._place_ids.last_info}
