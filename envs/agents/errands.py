@@ -1,0 +1,158 @@
+"""One building's guided tour and errands with an agent: the closed loop's unit of work.
+
+:func:`run_scene` builds ``PlaceNav-GuidedTour-v1`` for a building and a recognizer, runs the
+tour, and lets an agent of :data:`ERRAND_AGENTS` run the errands on the tour's map (or, with
+``tracks``, every track's errands from that one tour); the commands
+(:mod:`envs.commands.closed_loop`, :mod:`envs.commands.leaderboard`) run it per building.
+
+Examples:
+    >>> row = run_scene(0, n_rooms=3, recognizer="oracle", goals=2, seed=0,
+    ...                 tour_steps_per_room=40)
+    >>> row["success_rate"], row["precision"]
+    (1.0, 1.0)
+"""
+
+from __future__ import annotations
+
+import functools
+import importlib.util
+import time
+from collections.abc import Mapping
+from pathlib import Path
+from typing import Any, cast
+
+import gymnasium as gym
+import numpy as np
+
+from ..tasks.guided_tour import GuidedTourEnv
+from ..tasks.recognizers import check_recognizer_name
+from ..world.textures import ASSETS
+from . import hints
+from .learned import LearnedAgent
+from .relocalize import RelocalizingPlanner
+from .teach_repeat import TourPlanner
+
+#: agents that run errands on a guided tour's map: ``planner`` (teach and repeat, v1's),
+#: ``relocalizer`` (the planner that finds where it is again on the tour's scans: carried
+#: errands, changed worlds), a learned ``ppo`` policy, ``random`` actions
+ERRAND_AGENTS = ("planner", "relocalizer", "ppo", "random")
+#: the shipped errand policy (``make train-errands``), package data of the wheel too
+POLICY = ASSETS / "policies" / "errands" / "ppo_errands.zip"
+
+
+def run_scene(scene_seed: int, n_rooms: int = 6, recognizer: str = "panorama",
+              agent: str = "planner", goals: int = 5, seed: int = 0,
+              policy: str | Path | None = None,
+              recognizer_params: dict[str, Any] | None = None,
+              tracks: Mapping[str, Mapping[str, Any]] | None = None, **task: Any
+              ) -> dict[str, Any]:
+    """One guided tour of building ``scene_seed`` and ``goals`` errands; the outcome.
+
+    Args:
+        scene_seed, n_rooms: the building.
+        recognizer: one of :data:`~envs.tasks.recognizers.RECOGNIZERS`, or
+            ``package.module:Class`` (:func:`~envs.tasks.recognizers.make_recognizer`).
+        agent: one of :data:`ERRAND_AGENTS`.
+        goals: errands after the tour.
+        seed: the episode's seed (with the scene seed: the tour's route and the errands' goals).
+        policy: the ``ppo`` agent's policy (default: the shipped one); the ``config.yml``
+            beside it says what it observes (:class:`~envs.agents.learned.LearnedAgent`).
+        recognizer_params: the recognizer's constructor arguments.
+        tracks: errands of several tracks after one tour: track name -> its errand arguments
+            (``errand_start``, ``errand_condition``, ``errand_learn``). Each track's errands
+            start from the tour's state (``TourState``), the robot at rest where the tour
+            ended, with the same goals and carries as a tour of its own would give them.
+        **task: more ``PlaceNav-GuidedTour-v1`` arguments (the tour's, with ``tracks``).
+
+    Returns:
+        ``success_rate``, ``spl``, ``mean_length`` (steps per errand), the tour map's
+        ``precision``, ``nmi``, ``n_places``, ``places_per_room``, the ``errands`` themselves
+        and ``seconds``; with ``tracks``, such a row per track under ``tracks``.
+    """
+    if agent not in ERRAND_AGENTS:
+        raise ValueError(f"unknown agent {agent!r}; choose one of {ERRAND_AGENTS}")
+    check_recognizer_name(recognizer)
+    learned = LearnedAgent.load(policy or POLICY) if agent == "ppo" else None
+    head = {"scene_seed": scene_seed, "recognizer": recognizer,
+            "recognizer_params": dict(recognizer_params or {}), "agent": agent}
+    make = functools.partial(gym.make, "PlaceNav-GuidedTour-v1", recognizer=recognizer,
+                             scene_seed=scene_seed, n_rooms=n_rooms, n_errands=goals,
+                             recognizer_params=recognizer_params)
+    episode = seed * 100_003 + scene_seed
+    if tracks is None:
+        start = time.perf_counter()
+        info, errands = _errands(make(**task), episode, agent, seed, learned)
+        return {**head, **_scores(errands), **info["map"], "errands": errands,
+                "seconds": time.perf_counter() - start}
+    rows: dict[str, Any] = {}
+    state = None
+    for name, extra in tracks.items():
+        start = time.perf_counter()
+        env = make(**task, **extra)
+        if state is None:  # the tour, once: every track's errands start from what it left
+            try:
+                env.reset(seed=episode)
+                state = cast(GuidedTourEnv, env.unwrapped).tour_state()
+            except BaseException:
+                env.close()
+                raise
+        info, errands = _errands(env, episode, agent, seed, learned, {"tour": state})
+        rows[name] = {**head, **_scores(errands), **info["map"], "errands": errands,
+                      "seconds": time.perf_counter() - start}
+    return {**head, "tracks": rows,
+            "seconds": float(sum(r["seconds"] for r in rows.values()))}
+
+
+def check_agent(agent: str, policy: Path | None) -> None:
+    """Check what an agent needs before any job runs (and before any output folder is made):
+    the ``ppo`` agent needs stable-baselines3 (the ``train`` extra) and its policy file.
+
+    Raises:
+        ValueError: stable-baselines3 is missing; the line says which extra brings it.
+        FileNotFoundError: no such policy file; the line names the shipped policies.
+    """
+    if agent != "ppo":
+        return
+    if importlib.util.find_spec("stable_baselines3") is None:
+        raise ValueError("the ppo agent needs stable-baselines3: pip install 'placeclust[train]' "
+                         "(with torch==2.13.0 first on a CPU machine)")
+    path = Path(policy or POLICY)
+    if not path.is_file():
+        shipped = sorted(p.parent.name for p in (ASSETS / "policies" / "tour").glob(
+            "*/best_model.zip"))
+        names = f", NAME one of {shipped}" if shipped else " (a clone's)"
+        raise FileNotFoundError(f"no policy file {path}; the shipped errand policies are "
+                                f"{ASSETS / 'policies' / 'tour'}/NAME/best_model.zip{names}; "
+                                "or train one with python -m train.train")
+
+
+def _errands(env: gym.Env, episode: int, agent: str, seed: int, learned: LearnedAgent | None,
+             options: dict[str, Any] | None = None) -> tuple[dict[str, Any], list[dict]]:
+    """Run one episode's errands on ``env`` (closed after); the reset's info and the errands."""
+    if learned is not None:  # the policy sees what it was trained on (envs.agents.learned)
+        env = learned.wrap(env, seed)
+    try:
+        obs, info = env.reset(seed=episode, options=options)
+        act = _agent(agent, env, info, obs, seed) if learned is None else learned.actor()
+        done = False
+        while not done:
+            obs, _, done, _, step_info = env.step(act(obs))
+    finally:
+        env.close()
+    return info, step_info["errands"]
+
+
+def _scores(errands: list[dict]) -> dict[str, float]:
+    return {"success_rate": float(np.mean([e["success"] for e in errands])),
+            "spl": float(np.mean([e["spl"] for e in errands])),
+            "mean_length": float(np.mean([e["steps"] for e in errands]))}
+
+
+def _agent(kind: str, env: gym.Env, info: dict, obs: dict, seed: int):
+    if kind == "random":
+        rng = np.random.default_rng(seed)
+        return lambda _obs: rng.uniform(-1, 1, 2).astype(np.float32)
+    kind_of = RelocalizingPlanner if kind == "relocalizer" else TourPlanner
+    planner = kind_of(unknown=hints.unknown_place(env), seed=seed)
+    planner.reset(info["tour"], obs)
+    return planner.act
