@@ -305,6 +305,25 @@ class OnlinePlaceClustering(MapPersistence):
         best, _ = self._nearest(desc)
         return self._localized(best.place, best.distance)
 
+    def rank_places(self, frame: np.ndarray, n: int = 10) -> list[int]:
+        """The ``n`` places nearest ``frame`` by Eq. 4's distance, best first; the map and the
+        current place are unchanged. Every place is compared (recall at N for a data set's
+        queries, not tracking), so the cost grows with the map.
+
+        Args:
+            frame: an image, as for :meth:`learn_one`.
+            n: how many places.
+
+        Returns:
+            Up to ``n`` place ids (none for a featureless frame).
+        """
+        desc = self._describe(frame)
+        if desc is None:
+            return []
+        compared = sorted((self._compare(p, desc) for p in self.kernels),
+                          key=lambda c: c.distance)
+        return [c.place for c in compared[:n]]
+
     def reset_position(self) -> None:
         """Forget where the robot is (it was carried elsewhere); the map is kept.
 

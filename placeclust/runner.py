@@ -9,7 +9,7 @@ from __future__ import annotations
 import ast
 import inspect
 import time
-from collections.abc import Callable, Iterable, Mapping
+from collections.abc import Callable, Iterable, Mapping, Sequence
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -21,7 +21,7 @@ from placeclust.metrics import latency_summary, score
 from placeclust.nested import NestedMapper
 from placeclust.online import OnlinePlaceClustering
 from placeclust.presets import PRESETS
-from placeclust.protocol import is_offline, is_online, resolve
+from placeclust.protocol import is_offline, is_online, reset_position, resolve
 from placeclust.stream import StreamPlaces
 
 ALGORITHMS = ("online", "nested", "kunion", "wpgma", "kmeans", "stream")
@@ -186,13 +186,15 @@ def make(algo: str, features: str = "sift", **params: object) -> object:
     return cls(**params)
 
 
-def run(algo: str, frames: np.ndarray, features: str = "sift", progress: bool = False,
-        **params: object) -> Result:
+def run(algo: str, frames: np.ndarray | Sequence[np.ndarray], features: str = "sift",
+        progress: bool = False, **params: object) -> Result:
     """Run ``algo`` over ``frames``; online ones one frame at a time (``learn_predict_one``).
 
     Args:
         algo: one of :data:`ALGORITHMS` or ``package.module:Class``.
-        frames: (T, H, W[, C]) images.
+        frames: (T, H, W[, C]) images, or a sequence of them read as needed (an
+            :class:`~placeclust.datasets.ImageFolder`: online recognizers hold one frame at a
+            time; offline ones are given the sequence whole).
         features: local feature type.
         progress: show a progress bar.
         **params: other constructor arguments of the recognizer.
@@ -218,6 +220,8 @@ def run(algo: str, frames: np.ndarray, features: str = "sift", progress: bool = 
     """
     model = make(algo, features, **params)
     if is_offline(type(model)):
+        if not isinstance(frames, np.ndarray):  # a lazy sequence: offline methods see it whole
+            frames = np.stack(list(frames))
         start = time.perf_counter()
         labels = np.asarray(_method(model, "fit_predict")(frames), np.int64)
         per_frame = (time.perf_counter() - start) / max(1, len(frames))
@@ -225,7 +229,8 @@ def run(algo: str, frames: np.ndarray, features: str = "sift", progress: bool = 
     return _one_at_a_time(model, _method(model, "learn_predict_one"), frames, progress, algo)
 
 
-def localize(model: object, frames: np.ndarray, progress: bool = False) -> Result:
+def localize(model: object, frames: np.ndarray | Sequence[np.ndarray], progress: bool = False
+             ) -> Result:
     """Track ``frames`` on ``model``'s fixed map (``localize_one``: no place is learnt).
 
     Args:
@@ -245,8 +250,9 @@ def _method(model: object, name: str) -> Callable[..., Any]:
     return method
 
 
-def _one_at_a_time(model: object, step: Callable[[np.ndarray], int], frames: np.ndarray,
-                   progress: bool, desc: str) -> Result:
+def _one_at_a_time(model: object, step: Callable[[np.ndarray], int],
+                   frames: np.ndarray | Sequence[np.ndarray], progress: bool, desc: str
+                   ) -> Result:
     from placeclust.progress import progress as progress_bar
 
     labels = np.empty(len(frames), np.int64)
@@ -284,3 +290,48 @@ def evaluate(result: Result, rooms: np.ndarray) -> dict[str, float]:
     """
     return {**score(result.assignments, rooms, result.localized),
             **latency_summary(result.latencies)}
+
+
+def matched_k(params: dict, features: str, frames: np.ndarray, room: np.ndarray,
+              online_places: dict[str, int]) -> dict:
+    """``params`` with ``n_clusters="rooms"`` or ``"online"`` made a number for this tour.
+
+    Purity rewards more clusters, so the offline methods are compared with the online one at
+    matched numbers of places: the rooms the tour visited, or the places the online
+    recognizer (with its defaults and the same features) opened on it; ``online_places``
+    keeps that number per feature type across calls on the same tour.
+    """
+    k = params.get("n_clusters")
+    if k == "rooms":
+        params["n_clusters"] = int(len(np.unique(room[room >= 0])))
+    elif k == "online":
+        if features not in online_places:
+            model = run("online", frames, features).model
+            assert isinstance(model, OnlinePlaceClustering)  # what run("online") makes
+            online_places[features] = model.n_places
+        params["n_clusters"] = online_places[features]
+    return params
+
+
+def cross_condition(algo: str, frames: np.ndarray, room: np.ndarray, test_frames: np.ndarray,
+                    test_room: np.ndarray, features: str = "sift", **params: Any
+                    ) -> tuple[np.ndarray, dict[str, float]]:
+    """Map ``frames`` with ``algo``, then localize ``test_frames`` (the same route under
+    another condition) on the fixed map (:func:`localize`).
+
+    Returns:
+        The place of every test frame and the test tour's metrics, with ``precision`` against
+        the rooms the places were mapped in (not the test tour's own majority) and
+        ``map_precision``, the map's own.
+    """
+    from placeclust.metrics import place_to_room
+
+    mapped = run(algo, frames, features, **params)
+    rooms_of = place_to_room(mapped.assignments, room)
+    reset_position(mapped.model)  # the test tour starts anywhere on the map
+    tested = localize(mapped.model, test_frames)
+    pred, metrics = tested.assignments, evaluate(tested, test_room)
+    metrics["precision"] = float(np.mean([rooms_of.get(int(p), -1) == r
+                                          for p, r in zip(pred, test_room)]))
+    metrics["map_precision"] = score(mapped.assignments, room)["precision"]
+    return pred, metrics

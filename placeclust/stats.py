@@ -271,3 +271,34 @@ def buildings_for(groups: Groups, half_width: float, confidence: float = CONFIDE
         raise ValueError("a pilot needs at least 2 buildings to estimate their spread")
     z = stats.norm.ppf(0.5 + confidence / 2)
     return max(2, math.ceil((z * means.std(ddof=1) / half_width) ** 2))
+
+
+def rank_agreement(a: Sequence[float], b: Sequence[float], confidence: float = CONFIDENCE,
+                   n_resamples: int = 2000, seed: int = 0) -> Estimate:
+    """Spearman's rank correlation between two scores of the same methods (say each
+    recognizer's precision in the simulator, ``a``, and on a real data set, ``b``), with a
+    percentile-bootstrap interval over methods (``n_buildings`` counts the methods).
+
+    Resamples in which either score is constant have no rank correlation and are left out.
+    With fewer than 3 methods there is nothing to rank: the mean is NaN.
+
+    Examples:
+        >>> from placeclust.stats import rank_agreement
+        >>> est = rank_agreement([0.9, 0.8, 0.7, 0.6, 0.5], [0.8, 0.9, 0.6, 0.5, 0.4])
+        >>> round(est.mean, 2), est.n_buildings, est.low <= est.mean <= est.high
+        (0.9, 5, True)
+    """
+    x, y = np.asarray(a, float), np.asarray(b, float)
+    if x.shape != y.shape or x.ndim != 1:
+        raise ValueError(f"two scores per method are needed, got shapes {x.shape}, {y.shape}")
+    if len(x) < 3:
+        return Estimate(math.nan, math.nan, math.nan, len(x), confidence)
+    with np.errstate(invalid="ignore"), warnings.catch_warnings():
+        warnings.simplefilter("ignore")  # constant resamples: no correlation, left out
+        rho = float(stats.spearmanr(x, y).statistic)
+        picks = np.random.default_rng(seed).integers(0, len(x), (n_resamples, len(x)))
+        draws = np.array([stats.spearmanr(x[i], y[i]).statistic for i in picks])
+    draws = draws[np.isfinite(draws)]
+    tail = (1 - confidence) / 2 * 100
+    low, high = np.percentile(draws, [tail, 100 - tail]) if draws.size else (math.nan,) * 2
+    return Estimate(rho, float(low), float(high), len(x), confidence)

@@ -45,6 +45,7 @@ import numpy as np
 
 from placeclust import __version__, protocol
 from placeclust.features import FEATURES
+from placeclust.realdata import dataset_kind, fingerprint
 from placeclust.runner import ALGORITHMS, check_params, recognizer_class
 
 from ..world.conditions import CONDITIONS
@@ -68,19 +69,26 @@ class RunSpec:
     width: int = 512
     height: int = 128
     params: tuple[tuple[str, object], ...] = ()
+    #: a real data set's folder instead of a simulated tour (the world fields then unused),
+    #: and its :func:`~placeclust.realdata.fingerprint`
+    dataset: str = ""
+    dataset_hash: str = ""
 
     @property
     def key(self) -> str:
         """A short hash of the configuration and the placeclust version: the run's file name
         and resume key (a new version never reuses an old version's results)."""
-        text = json.dumps({**asdict(self), "placeclust": __version__}, sort_keys=True)
+        fields = {k: v for k, v in asdict(self).items()
+                  if v or k not in ("dataset", "dataset_hash")}
+        text = json.dumps({**fields, "placeclust": __version__}, sort_keys=True)
         return hashlib.sha1(text.encode()).hexdigest()[:16]
 
     @property
     def tour(self) -> tuple:
-        """What fixes the tour's frames: runs with the same ``tour`` share one recording."""
+        """What fixes the tour's frames: runs with the same ``tour`` share one recording (or
+        one data set)."""
         return (self.scene_seed, self.world_rooms, self.condition, self.tour_seed,
-                self.steps_per_room, self.width, self.height)
+                self.steps_per_room, self.width, self.height, self.dataset)
 
 
 @dataclass(frozen=True)
@@ -100,12 +108,14 @@ class Matrix:
     height: int = 128
     #: constructor arguments given to every recognizer of the matrix, as ``(name, value)``
     params: tuple[tuple[str, object], ...] = ()
+    #: real data sets beside the simulated tours: labelled image folders, VPR-Bench folders
+    datasets: tuple[str, ...] = ()
 
     def __post_init__(self) -> None:
         # each algo is a name of ALGORITHMS or package.module:Class (check_params loads it,
         # naming one it cannot) whose recognizer takes every param of the matrix
         for algo in self.algos:
-            # n_clusters="rooms" or "online" is made a number per tour (_matched_k)
+            # n_clusters="rooms" or "online" is made a number per tour (placeclust.runner.matched_k)
             check_params(algo, {k: 1 if k == "n_clusters" and v in ("rooms", "online") else v
                                 for k, v in self.params})
         _check_choices("features", self.features + self.latency_features, FEATURES)
@@ -120,6 +130,8 @@ class Matrix:
             raise ValueError("rooms and steps_per_room must be at least 1")
         if min(self.latency_sizes, default=2) < 2:
             raise ValueError("latency_sizes must be at least 2 places")
+        for path in self.datasets:
+            dataset_kind(path)  # a folder it cannot score is named now, before any run
 
     @property
     def latency_sweeps(self) -> tuple[str, ...]:
@@ -141,14 +153,33 @@ class Matrix:
                                 out.append(RunSpec(algo, feat, scene, n, condition, seed,
                                                    self.steps_per_room, self.width, self.height,
                                                    self.params))
+        return out + self._dataset_runs()
+
+    def _dataset_runs(self) -> list[RunSpec]:
+        """A run per recognizer, feature type and data set: ``images`` for a labelled folder,
+        ``ref>query`` for VPR-Bench (recognizers that can localize only)."""
+        out = []
+        for path in self.datasets:
+            condition = DATASET_CONDITION[dataset_kind(path)]
+            for algo in self.algos:
+                if ">" in condition and not can_localize(algo):
+                    continue
+                out += [RunSpec(algo, feat, -1, 0, condition, 0, 0, 0, 0, self.params, path,
+                                fingerprint(path)) for feat in self.features]
         return out
 
 
     def skipped(self) -> list[str]:
         """The cross-condition runs the matrix leaves out, each as ``algo on condition``:
         recognizers that cannot localize on a fixed map."""
-        return [f"{algo} on {condition}" for condition in self.conditions if ">" in condition
-                for algo in self.algos if not can_localize(algo)]
+        conditions = [*self.conditions, *(DATASET_CONDITION[dataset_kind(p)]
+                                          for p in self.datasets)]
+        return [f"{algo} on {condition}" for condition in dict.fromkeys(conditions)
+                if ">" in condition for algo in self.algos if not can_localize(algo)]
+
+
+#: the condition a data set's runs are reported under, by :func:`dataset_kind`
+DATASET_CONDITION = {"images": "images", "vpr-bench": "ref>query"}
 
 
 def can_localize(algo: str) -> bool:
@@ -261,9 +292,12 @@ def _latency_rows(job: Job) -> Iterator[dict]:
 
 
 def _tour_rows(specs: tuple[RunSpec, ...]) -> Iterator[dict]:
-    from placeclust.runner import evaluate, run
+    from placeclust.runner import cross_condition, evaluate, matched_k, run
 
     first = specs[0]
+    if first.dataset:
+        yield from _dataset_rows(specs)
+        return
     mapped, cross = first.condition.partition(">")[::2]
     frames, room = _record(replace(first, condition=mapped))
     if cross:
@@ -271,10 +305,11 @@ def _tour_rows(specs: tuple[RunSpec, ...]) -> Iterator[dict]:
     online_places: dict[str, int] = {}  # per feature type, for n_clusters="online"
     for spec in specs:
         if cross:
-            pred, metrics = _cross_condition(spec, frames, room, test_frames, test_room)
+            pred, metrics = cross_condition(spec.algo, frames, room, test_frames, test_room,
+                                            spec.features, **dict(spec.params))
             truth = test_room
         else:
-            params = _matched_k(dict(spec.params), spec.features, frames, room, online_places)
+            params = matched_k(dict(spec.params), spec.features, frames, room, online_places)
             result = run(spec.algo, frames, spec.features, **params)
             pred, truth, metrics = result.assignments, room, evaluate(result, room)
         # params as JSON gives them back from the store, so every executor returns equal rows
@@ -282,27 +317,16 @@ def _tour_rows(specs: tuple[RunSpec, ...]) -> Iterator[dict]:
                "params": [list(p) for p in spec.params], "assignments": pred, "truth": truth}
 
 
-def _matched_k(params: dict, features: str, frames: np.ndarray, room: np.ndarray,
-               online_places: dict[str, int]) -> dict:
-    """``params`` with ``n_clusters="rooms"`` or ``"online"`` made a number for this tour.
+def _dataset_rows(specs: tuple[RunSpec, ...]) -> Iterator[dict]:
+    """The runs of one data set (:func:`placeclust.realdata.run_dataset`)."""
+    from placeclust.realdata import run_dataset
 
-    Purity rewards more clusters, so the offline methods are compared with the online one at
-    matched numbers of places: the rooms the tour visited, or the places the online
-    recognizer (with its defaults and the same features) opened on it.
-    """
-    from placeclust.online import OnlinePlaceClustering
-    from placeclust.runner import run
-
-    k = params.get("n_clusters")
-    if k == "rooms":
-        params["n_clusters"] = int(len(np.unique(room[room >= 0])))
-    elif k == "online":
-        if features not in online_places:
-            model = run("online", frames, features).model
-            assert isinstance(model, OnlinePlaceClustering)  # what run("online") makes
-            online_places[features] = model.n_places
-        params["n_clusters"] = online_places[features]
-    return params
+    for spec in specs:
+        params: dict[str, Any] = dict(spec.params)  # checked against the recognizer by Matrix
+        run_, truth = run_dataset(spec.algo, spec.dataset, spec.features, **params)
+        yield {"key": spec.key, "kind": "run", **asdict(spec), **run_.metrics,
+               **library_versions(), "params": [list(p) for p in spec.params],
+               "assignments": run_.result.assignments, "truth": truth}
 
 
 def _record(spec: RunSpec) -> tuple[np.ndarray, np.ndarray]:
@@ -312,30 +336,6 @@ def _record(spec: RunSpec) -> tuple[np.ndarray, np.ndarray]:
     tour, _ = record_tour(spec.scene_seed, spec.world_rooms, steps, spec.tour_seed, spec.width,
                           spec.height, progress=False, **CONDITIONS[spec.condition])
     return tour.frames, tour.room
-
-
-def _cross_condition(spec: RunSpec, frames: np.ndarray, room: np.ndarray,
-                     test_frames: np.ndarray, test_room: np.ndarray
-                     ) -> tuple[np.ndarray, dict[str, float]]:
-    """Map on ``frames``, then localize ``test_frames`` on the fixed map (see module doc).
-
-    Returns the place of every test frame and the metrics of the test tour.
-    """
-    from placeclust.metrics import place_to_room, score
-    from placeclust.runner import evaluate, localize, run
-
-    params: dict[str, Any] = dict(spec.params)  # checked against the recognizer by Matrix
-    mapped = run(spec.algo, frames, spec.features, **params)
-    rooms_of = place_to_room(mapped.assignments, room)
-    # the matrix has cross-condition runs only for recognizers that can localize
-    protocol.reset_position(mapped.model)  # the test tour starts anywhere on the map
-    tested = localize(mapped.model, test_frames)
-    pred, metrics = tested.assignments, evaluate(tested, test_room)
-    # precision against the rooms the places were mapped in, not the test tour's own majority
-    metrics["precision"] = float(np.mean([rooms_of.get(int(p), -1) == r
-                                          for p, r in zip(pred, test_room)]))
-    metrics["map_precision"] = score(mapped.assignments, room)["precision"]
-    return pred, metrics
 
 
 # -- executing jobs -----------------------------------------------------------------------------

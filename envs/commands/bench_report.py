@@ -77,9 +77,9 @@ def meets_bar(row: dict) -> bool:
 def by_building(rows: list[dict], value: Callable[[dict], float]) -> list[list[float]]:
     """``value`` of each run, grouped by building (scene seed): the sample a bootstrap over
     buildings resamples (:mod:`placeclust.stats`)."""
-    groups: dict[int, list[float]] = {}
-    for r in rows:
-        groups.setdefault(int(r["scene_seed"]), []).append(float(value(r)))
+    groups: dict[object, list[float]] = {}
+    for r in rows:  # a data set is one "building": its runs are not independent draws
+        groups.setdefault(r.get("dataset") or int(r["scene_seed"]), []).append(float(value(r)))
     return list(groups.values())
 
 
@@ -187,6 +187,61 @@ def plot_latency(latency: list[dict], path: str | Path) -> None:
     plt.close(fig)
 
 
+#: the columns of the data set table, and the score each kind ranks recognizers by
+DATASET_KEYS = ("precision", "nmi", "query_top1", "query_recall@1", "query_recall@5",
+                "query_chance", "n_places")
+DATASET_SCORE = {"images": "precision", "ref>query": "query_top1"}
+
+
+def dataset_table(rows: list[dict]) -> str:
+    """Per recognizer and real data set: the clustering metrics of a labelled folder, or
+    VPR-Bench's place-level top-1, recall at N and chance (:mod:`placeclust.vprbench`)."""
+    lines = ["| method | data set | " + " | ".join(DATASET_KEYS) + " | ms/frame |",
+             "|---" * (len(DATASET_KEYS) + 3) + "|"]
+    for r in rows:
+        feat = ", ".join(filter(None, (r["features"], params_text(r.get("params")))))
+        cells = [(f"{r[k]:.3f}" if isinstance(r[k], float) else str(r[k])) if k in r else "–"
+                 for k in DATASET_KEYS]
+        lines.append(f"| {r['algo']} ({feat}) | {Path(r['dataset']).name} | "
+                     + " | ".join(cells) + f" | {r['ms_per_frame']:.1f} |")
+    return "\n".join(lines)
+
+
+def sim_vs_real(rows: list[dict]) -> str:
+    """Whether the simulator ranks the recognizers as each real data set does: per method its
+    mean precision on simulated ``day`` tours beside its score on the data set
+    (:data:`DATASET_SCORE`), and Spearman's rank correlation over the methods with a 95%
+    interval from a bootstrap over methods (:func:`placeclust.stats.rank_agreement`)."""
+    from placeclust.stats import rank_agreement
+
+    sim: dict[tuple, list[float]] = {}
+    for r in rows:
+        if not r.get("dataset") and r["condition"] == "day":
+            sim.setdefault(_method(r), []).append(r["precision"])
+    parts = []
+    for path in dict.fromkeys(r["dataset"] for r in rows if r.get("dataset")):
+        real = {_method(r): r[DATASET_SCORE[r["condition"]]] for r in rows
+                if r.get("dataset") == path}
+        methods = [m for m in real if m in sim]
+        if not methods:
+            continue
+        name = Path(path).name
+        lines = [f"| method | simulated precision (day) | {name} |", "|---|---|---|"]
+        lines += [f"| {m[0]} ({m[1]}) | {np.mean(sim[m]):.3f} | {real[m]:.3f} |"
+                  for m in methods]
+        rho = rank_agreement([float(np.mean(sim[m])) for m in methods],
+                             [real[m] for m in methods])
+        agreement = (f"Spearman's rank correlation over {rho.n_buildings} methods: "
+                     f"{rho.text()}" if rho.n_buildings >= 3 else
+                     f"{rho.n_buildings} methods: too few to rank (Spearman needs 3).")
+        parts += ["\n".join(lines), "", agreement.replace("building", "method"), ""]
+    return "\n".join(parts) or "No method ran on both a simulated `day` tour and a data set.\n"
+
+
+def _method(r: dict) -> tuple[str, str]:
+    return r["algo"], ", ".join(filter(None, (r["features"], params_text(r.get("params")))))
+
+
 def write_report(rows: list[dict], latency: list[dict], folder: str | Path,
                  spec_columns: list[str], echo: bool = True,
                  skipped: Sequence[str] = ()) -> list[dict]:
@@ -199,12 +254,20 @@ def write_report(rows: list[dict], latency: list[dict], folder: str | Path,
     folder = Path(folder)
     write_csv(rows, folder / "results.csv", spec_columns)
     parts = ["# placeclust bench", ""]
-    if rows:
-        parts += [worlds_line(rows), "", summary_table(rows), ""]
-        if skipped:
-            parts += ["Skipped, as these recognizers cannot localize on a fixed map: "
-                      + "; ".join(skipped) + ".", ""]
-        plot_precision(rows, folder / "precision.png")
+    simulated = [r for r in rows if not r.get("dataset")]
+    real = [r for r in rows if r.get("dataset")]
+    if simulated:
+        parts += [worlds_line(simulated), "", summary_table(simulated), ""]
+        plot_precision(simulated, folder / "precision.png")
+    if real:
+        parts += ["Real data sets (top-1 and recall at N: VPR-Bench's score at the level of "
+                  "places, placeclust.vprbench):", "", dataset_table(real), ""]
+    if simulated and real:
+        parts += ["Simulated against real: does the simulator rank the recognizers as the "
+                  "data set does?", "", sim_vs_real(rows)]
+    if rows and skipped:
+        parts += ["Skipped, as these recognizers cannot localize on a fixed map: "
+                  + "; ".join(skipped) + ".", ""]
     if latency:
         parts += ["Latency as the map grows (synthetic places, 512×128):", "",
                   latency_table(latency), ""]

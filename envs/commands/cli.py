@@ -21,11 +21,13 @@ from placeclust.docs_section import write_section
 from placeclust.features import FEATURES
 from placeclust.runner import ALGORITHMS, check_params, evaluate, preset_params, run
 
-from ..world.conditions import LIGHTING
+from ..world.conditions import CONDITIONS, LIGHTING
 from ..world.splits import SPLITS, check_split, scenes, split_of
 from .bench_report import format_table
 
 if TYPE_CHECKING:
+    from ..tasks.tour import Tour
+    from ..world.layout import FloorPlan
     from .bench import Matrix
 
 
@@ -66,16 +68,23 @@ def cmd_tour(args: argparse.Namespace) -> None:
         raise SystemExit(f"error: --steps must be a positive number of frames, got {args.steps}")
     from ..tasks.tour import record_tour
 
+    if args.export_vpr_bench and args.query_condition == args.lighting:
+        raise ValueError(f"--query-condition {args.query_condition} is the tour's own "
+                         "lighting; a VPR-Bench query traversal is under another condition")
     out = Path(args.out)
     if args.camera == "forward":  # --width and --height size the forward image instead
-        size = {"image_width": args.width or 320, "image_height": args.height or 240}
-        tour, plan = record_tour(args.scene_seed, args.rooms, args.steps, args.seed,
-                                 lighting=args.lighting, progress=not args.quiet,
-                                 camera="forward", **size)
+        size = {"image_width": args.width or 320, "image_height": args.height or 240,
+                "camera": "forward"}
     else:
-        tour, plan = record_tour(args.scene_seed, args.rooms, args.steps, args.seed,
-                                 args.width or 512, args.height or 128, args.lighting,
-                                 progress=not args.quiet)
+        size = {"width": args.width or 512, "height": args.height or 128}
+
+    def record(**condition: object) -> tuple[Tour, FloorPlan]:
+        """The tour's route in its building, under ``condition`` (default: the lighting)."""
+        return record_tour(args.scene_seed, args.rooms, args.steps, args.seed,
+                           progress=not args.quiet, **{"lighting": args.lighting, **size,
+                                                       **condition})
+
+    tour, plan = record()
     out.mkdir(parents=True, exist_ok=True)
     tour.save(str(out / "tour.npz"), scene_seed=args.scene_seed, tour_seed=args.seed,
               lighting=args.lighting, camera=args.camera)
@@ -85,6 +94,15 @@ def cmd_tour(args: argparse.Namespace) -> None:
                     title=f"scene {args.scene_seed}, {args.rooms} rooms, {args.steps} steps")
     print(f"wrote {out / 'tour.npz'} ({args.steps} frames, scene {args.scene_seed}: "
           f"{split_of(args.scene_seed) or 'no'} split) and {out / 'floorplan.png'}")
+    if args.export_images:
+        tour.export_images(args.export_images, args.lighting)
+        print(f"wrote {len(tour.frames)} images and labels.csv to {args.export_images}")
+    if args.export_vpr_bench:
+        query, _ = record(**CONDITIONS[args.query_condition])
+        truth = tour.export_vpr_bench(args.export_vpr_bench, query, args.gt_radius)
+        print(f"wrote a VPR-Bench dataset to {args.export_vpr_bench}: {len(tour.frames)} ref, "
+              f"{len(query.frames)} query, {np.mean([len(t) for t in truth]):.1f} references a "
+              "query")
 
 
 def tour_scene(path: str) -> dict[str, object]:
@@ -98,8 +116,13 @@ def tour_scene(path: str) -> dict[str, object]:
 
 
 def cmd_cluster(args: argparse.Namespace) -> None:
-    params = preset_params(args.preset, args.param)
+    params: dict[str, Any] = preset_params(args.preset, args.param)
     check_params(args.algo, params)
+    if args.images:
+        return cluster_images(args, params)
+    if args.query:
+        raise ValueError("--query needs --images: a tour's queries are placeclust bench "
+                         "--conditions day>night")
     frames, room = load_tour(args.tour)
     scene = tour_scene(args.tour)
     if scene.get("camera") == "forward" and params.get("view") == "sides":
@@ -114,6 +137,38 @@ def cmd_cluster(args: argparse.Namespace) -> None:
             "preset": args.preset, "params": params, **scene}
     (out / "metrics.json").write_text(json.dumps({**meta, **metrics}, indent=2))
     print(format_table({f"{args.algo}/{args.features}": metrics}))
+
+
+def cluster_images(args: argparse.Namespace, params: dict[str, Any]) -> None:
+    """``cluster --images DIR [--query DIR]``: an image folder or a VPR-Bench dataset (its
+    ``ref/`` mapped, its ``query/`` localized and scored by its ground truth)."""
+    from placeclust.datasets import ImageFolder
+    from placeclust.realdata import cluster_folder, vpr_bench, with_queries, write_run
+    from placeclust.vprbench import VPRBench, is_vpr_bench
+
+    progress = not args.quiet
+    query: ImageFolder | None
+    if is_vpr_bench(args.images):
+        if args.query:
+            raise ValueError(f"{args.images} is a VPR-Bench dataset: its query/ folder is the "
+                             "queries, so leave out --query")
+        data = VPRBench(args.images)  # every file is checked before anything runs
+        run_ = vpr_bench(args.algo, data, args.features, args.alone, progress, **params)
+        mapped, query = data.ref, data.query
+    else:
+        mapped = ImageFolder(args.images)
+        query = ImageFolder(args.query) if args.query else None
+        run_ = cluster_folder(args.algo, mapped, args.features, progress=progress, **params)
+        if query is not None:
+            run_ = with_queries(run_, mapped, query, args.alone, progress)
+    meta = {"algo": args.algo, "features": args.features, "images": str(args.images),
+            "query": str(args.query or ""), "preset": args.preset, "params": params}
+    write_run(args.out, run_, mapped, query, meta)
+    keys = tuple(k for k in ("precision", "recall", "nmi", "n_places", "n_rooms",
+                             "query_top1", "query_recall@1", "query_recall@5", "query_chance",
+                             "ms_per_frame") if k in run_.metrics)
+    print(format_table({f"{args.algo}/{args.features}": run_.metrics}, keys))
+    print(f"wrote {args.out}/metrics.json, assignments.npy and places.png")
 
 
 def cmd_demo(args: argparse.Namespace) -> None:
@@ -141,7 +196,7 @@ def bench_plan(args: argparse.Namespace) -> tuple[Matrix, Path]:
     overrides: dict[str, Any] = {name: tuple(value) for name, value in (
         ("algos", args.algos), ("features", args.features), ("scenes", args.scenes),
         ("rooms", args.rooms), ("conditions", args.conditions), ("tour_seeds", args.tour_seeds),
-        ("latency_sizes", args.latency_sizes)) if value is not None}
+        ("latency_sizes", args.latency_sizes), ("datasets", args.dataset)) if value is not None}
     if args.steps_per_room is not None:
         overrides["steps_per_room"] = args.steps_per_room
     params = preset_params(args.preset, args.param)
@@ -179,7 +234,11 @@ def _add_bench(sub: argparse._SubParsersAction) -> None:
                        help=f"any of {', '.join(ALGORITHMS)}, or package.module:Class for a "
                        "recognizer of your own (placeclust.checks)")
     bench.add_argument("--features", nargs="+", choices=FEATURES)
-    bench.add_argument("--scenes", nargs="+", type=int)
+    bench.add_argument("--scenes", nargs="*", type=int,
+                       help="scene seeds of the simulated tours (none: real data sets only)")
+    bench.add_argument("--dataset", nargs="+", metavar="DIR",
+                       help="real data sets beside the simulated tours: labelled image folders "
+                       "(labels.csv) or VPR-Bench folders (placeclust.datasets)")
     bench.add_argument("--rooms", nargs="+", type=int)
     bench.add_argument("--conditions", nargs="+", help="day, cloudy, night, moved, noisy, or "
                        "map>test as day>night (online only)")
@@ -230,6 +289,16 @@ def build_parser() -> argparse.ArgumentParser:
     tour.add_argument("--height", type=int, help="image height (panorama 128, forward 240)")
     tour.add_argument("--lighting", default="day", choices=LIGHTING)
     tour.add_argument("--out", required=True)
+    tour.add_argument("--export-images", metavar="DIR",
+                      help="also write the frames as an image folder with labels.csv (rooms, "
+                      "poses), as cluster --images reads")
+    tour.add_argument("--export-vpr-bench", metavar="DIR",
+                      help="also write a VPR-Bench dataset: this tour as ref/, the same route "
+                      "under --query-condition as query/, and the ground truth")
+    tour.add_argument("--query-condition", default="night", choices=tuple(CONDITIONS),
+                      help="the query traversal's condition (default night)")
+    tour.add_argument("--gt-radius", type=float, default=2.0,
+                      help="a query's references: frames within this many metres in its room")
     tour.add_argument("--quiet", action="store_true")
     tour.set_defaults(func=cmd_tour)
 
@@ -238,7 +307,19 @@ def build_parser() -> argparse.ArgumentParser:
                          help=f"one of {', '.join(ALGORITHMS)} (default online), or "
                          "package.module:Class for a recognizer of your own (placeclust.checks)")
     cluster.add_argument("--features", choices=FEATURES, default="sift")
-    cluster.add_argument("--tour", required=True, help="path to tour.npz")
+    source = cluster.add_mutually_exclusive_group(required=True)
+    source.add_argument("--tour", help="path to tour.npz")
+    source.add_argument("--images", metavar="DIR",
+                        help="a folder of images in order (png or jpg; optional labels.csv: "
+                        "frame,label[,x,y,heading,condition]), or a VPR-Bench dataset folder "
+                        "(ref/, query/, ground_truth_new.npy): see placeclust.datasets")
+    cluster.add_argument("--query", metavar="DIR",
+                         help="with --images: a second folder localized on the first's map "
+                         "(both labelled); a query is right when its place holds a frame of "
+                         "its label")
+    cluster.add_argument("--alone", action="store_true",
+                         help="localize each query on its own, as VPR-Bench matches single "
+                         "images (default: in order, tracking, as a robot would)")
     _add_preset(cluster)
     cluster.add_argument("--param", action="append", metavar="NAME=VALUE",
                          help="a constructor argument of the recognizer, e.g. "
@@ -277,6 +358,9 @@ COMMANDS = {
     "seed001": (".seed001", "seed 001's experiment on its paper's forward camera"),
     "longrun": (".longrun", "the online recognizer in the loop for many steps"),
     "speed": (".speed", "the simulator's steps per second against a bare render"),
+    "stats": ("placeclust.imagestats", "how alike a sequence's places look to local features: "
+              "keypoints, matches to the next frame, across places and within (real or "
+              "simulated)"),
     "latency": ("placeclust.latency", "the online recognizer's time per frame as its map grows "
                 "(no simulator)"),
 }

@@ -56,6 +56,25 @@ class Tour:
         np.savez(path, frames=self.frames, room=self.room, pose=self.pose,
                  room_names=np.array(self.room_names), **meta)  # type: ignore[arg-type]
 
+    def export_images(self, folder: str, condition: str) -> None:
+        """Write the tour as an image folder (:mod:`placeclust.datasets`): png frames and
+        ``labels.csv`` with each frame's room name, pose (metres, radians) and ``condition``,
+        as ``placeclust cluster --images`` reads it."""
+        from placeclust.datasets import write_image_folder
+
+        names = [self.room_names[r] if r >= 0 else "" for r in self.room]
+        write_image_folder(folder, self.frames, names, self.pose, condition)
+
+    def export_vpr_bench(self, folder: str, query: Tour, radius: float) -> list[list[int]]:
+        """Write this tour as VPR-Bench's ``ref/``, ``query`` (the same route under another
+        condition) as ``query/``, and as ground truth each query's references within
+        ``radius`` metres in its room (:func:`placeclust.vprbench.nearby_truth`); returns it."""
+        from placeclust.vprbench import nearby_truth, write_vpr_bench
+
+        truth = nearby_truth(self.pose, query.pose, radius, self.room, query.room)
+        write_vpr_bench(folder, self.frames, query.frames, truth)
+        return truth
+
 
 def room_route(plan: FloorPlan, start: int, n_hops: int, rng: np.random.Generator) -> list[int]:
     """Rooms to visit in order, starting at ``start``: all rooms first, then random revisits.

@@ -240,3 +240,47 @@ def test_nested_localizes_across_conditions(tmp_path) -> None:
     (row,) = run_bench(matrix, tmp_path, workers=1, progress=False)
     assert row["condition"] == "day>night" and 0.0 <= row["precision"] <= 1.0
     assert row["map_precision"] > 0.0
+
+
+@pytest.fixture(scope="module")
+def datasets(tmp_path_factory):
+    """A labelled image folder and a VPR-Bench folder of the same two synthetic places."""
+    from placeclust.datasets import write_image_folder
+    from placeclust.synthetic import places
+    from placeclust.vprbench import write_vpr_bench
+
+    root = tmp_path_factory.mktemp("data")
+    frames, truth = places(2)
+    write_image_folder(root / "folder", frames, [f"r{t}" for t in truth])
+    write_vpr_bench(root / "vpr", frames, frames, [np.flatnonzero(truth == t) for t in truth])
+    return str(root / "folder"), str(root / "vpr")
+
+
+def test_real_data_sets_join_the_matrix_beside_the_tours(datasets, tmp_path) -> None:
+    folder, vpr = datasets
+    matrix = replace(TINY, datasets=(folder, vpr))
+    runs = matrix.runs()
+    real = [(r.algo, r.condition, r.dataset) for r in runs if r.dataset]
+    assert real == [("online", "images", folder), ("kmeans", "images", folder),
+                    ("online", "ref>query", vpr)]
+    assert "kmeans on ref>query" in matrix.skipped()
+    # simulated runs keep the keys they had before data sets existed
+    assert [r.key for r in runs if not r.dataset] == [r.key for r in TINY.runs()]
+    with pytest.raises(ValueError, match="holds no image"):
+        replace(TINY, datasets=(str(tmp_path),))
+
+
+def test_the_bench_runs_data_sets_and_compares_their_ranking(datasets, tmp_path) -> None:
+    folder, vpr = datasets
+    matrix = replace(TINY, algos=("online", "nested", "kmeans"), datasets=(folder, vpr),
+                     conditions=("day",), latency_sizes=(), params=())
+    rows = run_bench(matrix, tmp_path, workers=1, progress=False)
+    by = {(r["algo"], r["condition"]): r for r in rows if r.get("dataset")}
+    assert by[("online", "images")]["precision"] == 1.0
+    assert by[("online", "ref>query")]["query_top1"] == 1.0
+    report = (tmp_path / "results.md").read_text()
+    assert "Real data sets" in report and "| online (orb) | vpr |" in report
+    assert "Spearman's rank correlation over 3 methods" in report  # the folder: 3 recognizers
+    assert "2 methods: too few to rank" in report  # VPR-Bench: kmeans cannot localize
+    kept = run_bench(matrix, tmp_path, workers=1, progress=False)  # resumes: nothing redone
+    assert _stable(kept) == _stable(rows)

@@ -182,3 +182,92 @@ def test_a_tour_file_that_is_not_one_is_one_line_and_exit_2(tmp_path, capsys, co
     err = capsys.readouterr().err
     assert exc.value.code == 2 and message in err and len(err.strip().splitlines()) == 1
     assert not (tmp_path / "o").exists()
+
+
+def _image_folder(path, frames, truth, labels=True):
+    from placeclust.datasets import write_image_folder
+
+    write_image_folder(path, frames, [f"room{r}" for r in truth] if labels else None)
+    return path
+
+
+def test_cluster_takes_an_image_folder_and_queries_on_its_map(tmp_path, two_places, capsys):
+    frames, truth = two_places
+    mapped = _image_folder(tmp_path / "map", frames, truth)
+    query = _image_folder(tmp_path / "query", frames[::-1], truth[::-1])
+    main(["cluster", "--images", str(mapped), "--query", str(query), "--features", "orb",
+          "--out", str(tmp_path / "out"), "--quiet"])
+    metrics = json.loads((tmp_path / "out" / "metrics.json").read_text())
+    assert metrics["precision"] == 1.0 and metrics["query_top1"] == 1.0
+    for name in ("assignments.npy", "query_assignments.npy", "places.png"):
+        assert (tmp_path / "out" / name).is_file()
+    assert "query_top1" in capsys.readouterr().out
+
+
+def test_cluster_takes_a_vpr_bench_folder(tmp_path, two_places):
+    from placeclust.vprbench import write_vpr_bench
+
+    frames, truth = two_places
+    write_vpr_bench(tmp_path / "vpr", frames, frames, [np.flatnonzero(truth == r) for r in truth])
+    main(["cluster", "--images", str(tmp_path / "vpr"), "--features", "orb",
+          "--out", str(tmp_path / "out"), "--quiet"])
+    metrics = json.loads((tmp_path / "out" / "metrics.json").read_text())
+    assert metrics["query_top1"] == 1.0 and "query_recall@5" in metrics
+
+
+@pytest.mark.parametrize("setup, extra, message", [
+    ("missing", (), "does not exist"),
+    ("empty", (), "holds no image"),
+    ("mislabelled", (), "labels.csv has no row for 5 of the 6 images"),
+    ("bad truth", (), "ground_truth_new.npy"),
+    ("unlabelled", ("--query", "{map}"), "has no labels.csv"),
+    ("vpr", ("--query", "{map}"), "leave out --query"),
+    ("labelled", ("--algo", "kunion", "--query", "{map}"), "cannot localize"),
+])
+def test_bad_image_input_is_one_line_exit_2_and_writes_nothing(tmp_path, two_places, capsys,
+                                                              setup, extra, message):
+    from placeclust.vprbench import write_vpr_bench
+
+    frames, truth = two_places
+    folder = tmp_path / "map"
+    if setup in ("unlabelled", "labelled"):
+        _image_folder(folder, frames[:6], truth[:6], labels=setup == "labelled")
+    elif setup in ("vpr", "bad truth"):
+        write_vpr_bench(folder, frames[:3], frames[:3], [[0], [1], [2]])
+        if setup == "bad truth":
+            (folder / "ground_truth_new.npy").write_bytes(b"damaged")
+    elif setup == "empty":
+        folder.mkdir()
+    elif setup == "mislabelled":
+        _image_folder(folder, frames[:6], truth[:6], labels=False)
+        (folder / "labels.csv").write_text("frame,label\n0,a\n")
+    with pytest.raises(SystemExit) as code:
+        main(["cluster", "--images", str(folder), "--features", "orb",
+              *(a.format(map=folder) for a in extra), "--out", str(tmp_path / "out"),
+              "--quiet"])
+    err = capsys.readouterr().err.strip()
+    assert code.value.code == 2 and message in err and len(err.splitlines()) == 1
+    assert not (tmp_path / "out").exists()
+
+
+def test_a_tour_exports_as_a_folder_and_a_vpr_bench_dataset(tmp_path):
+    from placeclust.datasets import ImageFolder
+    from placeclust.vprbench import VPRBench
+
+    main(["tour", "--rooms", "2", "--steps", "6", "--width", "64", "--height", "16", "--out",
+          str(tmp_path / "t"), "--export-images", str(tmp_path / "img"), "--export-vpr-bench",
+          str(tmp_path / "vpr"), "--quiet"])
+    tour = np.load(tmp_path / "t" / "tour.npz")
+    folder = ImageFolder(tmp_path / "img")
+    assert np.array_equal(np.stack(list(folder)), tour["frames"])
+    names = [str(n) for n in tour["room_names"]]
+    assert [folder.label_names[i] for i in folder.labels] == [names[r] for r in tour["room"]]
+    assert np.allclose(folder.poses, tour["pose"], atol=1e-4) and folder.conditions[0] == "day"
+    data = VPRBench(tmp_path / "vpr")
+    assert np.array_equal(data.ref[0], tour["frames"][0])
+    assert not np.array_equal(data.query[0], data.ref[0])  # the same pose at night
+    assert all(t.size for t in data.ground_truth)  # each query has its own pose's reference
+
+
+def test_stats_is_a_command_of_its_own():
+    assert COMMANDS["stats"][0] == "placeclust.imagestats"
