@@ -81,8 +81,8 @@ def cmd_tour(args: argparse.Namespace) -> None:
     def record(**condition: object) -> tuple[Tour, FloorPlan]:
         """The tour's route in its building, under ``condition`` (default: the lighting)."""
         return record_tour(args.scene_seed, args.rooms, args.steps, args.seed,
-                           progress=not args.quiet, **{"lighting": args.lighting, **size,
-                                                       **condition})
+                           progress=not args.quiet, doors=args.doors,
+                           **{"lighting": args.lighting, **size, **condition})
 
     tour, plan = record()
     out.mkdir(parents=True, exist_ok=True)
@@ -164,11 +164,19 @@ def cluster_images(args: argparse.Namespace, params: dict[str, Any]) -> None:
     meta = {"algo": args.algo, "features": args.features, "images": str(args.images),
             "query": str(args.query or ""), "preset": args.preset, "params": params}
     write_run(args.out, run_, mapped, query, meta)
+    poses = getattr(mapped, "poses", None)
+    if poses is not None:  # labels.csv gave x, y: where each place is
+        from .figures import save_place_map
+
+        save_place_map(None, poses, run_.result.assignments, f"{args.out}/place_map.png",
+                       f"{args.algo}: {run_.metrics['n_places']} places",
+                       getattr(run_.result.model, "graph", None))
     keys = tuple(k for k in ("precision", "recall", "nmi", "n_places", "n_rooms",
                              "query_top1", "query_recall@1", "query_recall@5", "query_chance",
                              "ms_per_frame") if k in run_.metrics)
     print(format_table({f"{args.algo}/{args.features}": run_.metrics}, keys))
-    print(f"wrote {args.out}/metrics.json, assignments.npy and places.png")
+    print(f"wrote {args.out}/metrics.json, assignments.npy and places.png (each place's "
+          "frames; place_map.png where labels.csv has poses)")
 
 
 def cmd_demo(args: argparse.Namespace) -> None:
@@ -288,6 +296,8 @@ def build_parser() -> argparse.ArgumentParser:
     tour.add_argument("--width", type=int, help="image width (panorama 512, forward 320)")
     tour.add_argument("--height", type=int, help="image height (panorama 128, forward 240)")
     tour.add_argument("--lighting", default="day", choices=LIGHTING)
+    tour.add_argument("--doors", type=float, metavar="F", help="a building with doors: F of the "
+                      "doorways with an automatic door (envs.world.doors; default: none)")
     tour.add_argument("--out", required=True)
     tour.add_argument("--export-images", metavar="DIR",
                       help="also write the frames as an image folder with labels.csv (rooms, "

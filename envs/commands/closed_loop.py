@@ -195,10 +195,10 @@ def _run_job(job: dict[str, Any]) -> dict[str, Any]:
 TOUR_STEPS_PER_ROOM = 150
 
 
-def tour_task(steps_per_room: int, errand_start: str = "continue", layout: str = "grid"
-              ) -> dict[str, Any]:
-    """The ``PlaceNav-GuidedTour-v1`` arguments a job adds for a tour length, errand start and
-    layout: none for the defaults, so default jobs keep their plain file names."""
+def tour_task(steps_per_room: int, errand_start: str = "continue", layout: str = "grid",
+              doors: float | None = None) -> dict[str, Any]:
+    """The ``PlaceNav-GuidedTour-v1`` arguments a job adds for a tour length, errand start,
+    layout and doors: none for the defaults, so default jobs keep their plain file names."""
     task: dict[str, Any] = {}
     if steps_per_room != TOUR_STEPS_PER_ROOM:
         task["tour_steps_per_room"] = steps_per_room
@@ -206,6 +206,8 @@ def tour_task(steps_per_room: int, errand_start: str = "continue", layout: str =
         task["errand_start"] = errand_start
     if layout != "grid":
         task["layout"] = layout
+    if doors is not None:
+        task["doors"] = doors
     return task
 
 
@@ -221,6 +223,9 @@ def add_task_arguments(p: argparse.ArgumentParser, many_tracks: bool = False) ->
     p.add_argument("--layout", choices=LAYOUTS, default="grid",
                    help="the buildings: rooms of random sizes, or identical offices along a "
                    "corridor (--rooms counts the corridor)")
+    p.add_argument("--doors", type=float, metavar="F", help="buildings with doors: F of the "
+                   "doorways with an automatic door, every doorway framed and 0.8-1.0 m wide "
+                   "(envs.world.doors; default: open 1 m doorways)")
     if many_tracks:
         p.add_argument("--track", dest="tracks", nargs="+", choices=list(TRACKS),
                        metavar="TRACK", help="named tracks' errands (envs.commands.suite): "
@@ -240,7 +245,9 @@ def task_from_args(args: argparse.Namespace, track: str | None = None) -> dict[s
     Raises:
         ValueError: an option that contradicts the track's own setting of it.
     """
-    task = tour_task(args.tour_steps_per_room, args.errand_start, args.layout)
+    if args.doors is not None and not 0 <= args.doors <= 1:
+        raise ValueError(f"--doors must be a fraction in [0, 1], got {args.doors}")
+    task = tour_task(args.tour_steps_per_room, args.errand_start, args.layout, args.doors)
     track = track or getattr(args, "track", None)
     if track:
         for key, value in track_task(track).items():
@@ -254,7 +261,7 @@ def task_from_args(args: argparse.Namespace, track: str | None = None) -> dict[s
 
 
 #: the guided tour's arguments a track may set: tracks that agree on them share one tour
-TOUR_KEYS = frozenset({"layout", "tour_steps_per_room"})
+TOUR_KEYS = frozenset({"layout", "tour_steps_per_room", "doors"})
 
 
 def track_jobs(scene_seeds: list[int], recognizers: list[str], tasks: dict[str, dict[str, Any]],

@@ -69,14 +69,18 @@ def save_floor_plan(plan: FloorPlan, path: str, poses: np.ndarray | None = None,
     plt.close(fig)
 
 
-def save_place_map(plan: FloorPlan, poses: np.ndarray, places: np.ndarray, path: str,
+def save_place_map(plan: FloorPlan | None, poses: np.ndarray, places: np.ndarray, path: str,
                    title: str, graph: nx.Graph | None = None) -> None:
     """The floor plan with each frame's position coloured by its place id.
 
-    With ``graph`` (the recognizer's topological graph), its edges join the places' centroids.
+    With ``graph`` (the recognizer's topological graph), its edges join the places' centroids;
+    without ``plan`` (a real sequence's poses) the positions alone, to scale.
     """
     fig, ax = plt.subplots(figsize=(7, 6))
-    draw_floor_plan(ax, plan, room_colors=False)
+    if plan is not None:
+        draw_floor_plan(ax, plan, room_colors=False)
+    else:
+        ax.set_aspect("equal")
     known = places >= 0
     cmap = plt.get_cmap("tab20")
     centroids = {int(p): poses[places == p, :2].mean(axis=0) for p in np.unique(places[known])}

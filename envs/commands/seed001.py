@@ -117,8 +117,10 @@ def table2(model: Any, labels: np.ndarray, rooms: np.ndarray, key: np.ndarray,
 
 
 def run_scene(scene_seed: int, n_rooms: int = 6, steps_per_room: int = 150, seed: int = 0,
-              second: str = "noisy", params: dict[str, Any] | None = None) -> dict[str, Any]:
-    """Seed 001's experiment on one building (steps 1-4 of the module docstring).
+              second: str = "noisy", params: dict[str, Any] | None = None,
+              doors: float | None = None) -> dict[str, Any]:
+    """Seed 001's experiment on one building (steps 1-4 of the module docstring); ``doors``:
+    the building's doors (``PlaceNav-v0``'s, :mod:`envs.world.doors`; None: open doorways).
 
     Returns:
         A row: ``map`` (matching rate, AC, TP, P, NMI, locations, views, key frames),
@@ -133,9 +135,9 @@ def run_scene(scene_seed: int, n_rooms: int = 6, steps_per_room: int = 150, seed
     from ..world.visibility import own_room_share
 
     steps = steps_per_room * n_rooms
-    drive, plan = record_tour(scene_seed, n_rooms, steps, seed, camera="forward", progress=False)
-    again, _ = record_tour(scene_seed, n_rooms, steps, seed, camera="forward", progress=False,
-                           **CONDITIONS[second])
+    world: dict[str, Any] = {"camera": "forward", "progress": False, "doors": doors}
+    drive, plan = record_tour(scene_seed, n_rooms, steps, seed, **world)
+    again, _ = record_tour(scene_seed, n_rooms, steps, seed, **world, **CONDITIONS[second])
     model, labels, facts = map_drive(drive.frames, params or {})
     key, rooms = facts["key"], drive.room
     scores, label = score(labels[key], rooms[key]), place_to_room(labels[key], rooms[key])
@@ -279,6 +281,9 @@ def main(argv: list[str] | None = None, prog: str = "placeclust seed001"
                    help="the condition of the second drive of the same route")
     p.add_argument("--param", action="append", metavar="NAME=VALUE",
                    help="a NestedMapper argument (default: the paper's)")
+    p.add_argument("--doors", type=float, metavar="F",
+                   help="buildings with doors: F of the doorways with an automatic door, every "
+                   "doorway framed and 0.8-1.0 m wide (default: open 1 m doorways)")
     p.add_argument("--workers", type=int, default=1)
     p.add_argument("--json", type=Path, help="also write every building's row here")
     p.add_argument("--docs", type=Path, help="write the tables into this markdown file")
@@ -293,7 +298,11 @@ def main(argv: list[str] | None = None, prog: str = "placeclust seed001"
         return 2
     if args.steps_per_room < 1:
         p.error(f"--steps-per-room must be positive, got {args.steps_per_room}")
-    jobs = [(s, args.rooms, args.steps_per_room, args.seed, args.second, params) for s in seeds]
+    if args.doors is not None and not 0 <= args.doors <= 1:
+        print(f"error: --doors must be a fraction in [0, 1], got {args.doors}", file=sys.stderr)
+        return 2
+    jobs = [(s, args.rooms, args.steps_per_room, args.seed, args.second, params, args.doors)
+            for s in seeds]
     try:
         rows = sorted((row for _, row in run_all(_job, jobs, args.workers)),
                       key=lambda r: r["scene_seed"])
@@ -302,7 +311,8 @@ def main(argv: list[str] | None = None, prog: str = "placeclust seed001"
         return 2
     scope = (f"Split {args.split or 'none'}, scene seeds {', '.join(map(str, seeds))}, "
              f"{args.rooms} rooms, {args.steps_per_room} frames per room, tour seed {args.seed}, "
-             f"second drive {args.second}, nested mapper {params or 'with the paper parameters'}")
+             f"second drive {args.second}, nested mapper {params or 'with the paper parameters'}"
+             + ("" if args.doors is None else f", doors {args.doors}"))
     summary = summarize(rows)
     report = format_report(summary, scope)
     print(report)

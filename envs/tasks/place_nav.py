@@ -12,6 +12,7 @@ from gymnasium import spaces
 
 from ..world.changes import Changes, degrade
 from ..world.conditions import check_lighting
+from ..world.doors import DoorOpener
 from ..world.layout import FloorPlan
 from ..world.panorama import PanoramaGeometry
 from ..world.rendering import SceneRenderer
@@ -79,6 +80,7 @@ class PlaceNavEnv(gym.Env, gym.utils.EzPickle):
     | ``lighting`` | ``"day"`` | ``"day"``, ``"cloudy"`` or ``"night"``, as in COLD |
     | ``n_cameras`` | 4 | cameras in the ring the panorama is stitched from |
     | ``extra_doors`` | 0.5 | fraction of non-tree walls with a door (loops); 0 gives a tree |
+    | ``doors`` | ``None`` | ``None``: open doorways, 1 m wide; a fraction F in [0, 1]: every doorway framed and 0.8-1.0 m wide, F of them with an automatic door, shut until the robot is within 1.5 m (:mod:`envs.world.doors`) |
     | ``layout`` | ``"grid"`` | ``"grid"``: rooms of random sizes; ``"corridor"``: ``n_rooms - 1`` identical offices along a corridor, told apart only by how they look (:mod:`envs.world.corridor`) |
     | ``control_dt`` | 0.1 | seconds of simulation per step (physics runs at 5 ms) |
     | ``panorama`` | ``True`` | render the panorama into the observation |
@@ -105,7 +107,8 @@ class PlaceNavEnv(gym.Env, gym.utils.EzPickle):
       to in large buildings) and box faces are drawn as one quad: frames differ from 0.11.0's
       in about 13 pixels by one grey level.
       Since 0.13.0 ``camera_blur`` no longer wraps a forward image's left and right edges
-      into each other (panoramas wrap, as before).
+      into each other (panoramas wrap, as before). Since 0.15.0 ``doors`` (off by default:
+      buildings without doors are drawn as before).
     """
 
     metadata = {"render_modes": ["rgb_array"], "render_fps": 10}
@@ -134,6 +137,7 @@ class PlaceNavEnv(gym.Env, gym.utils.EzPickle):
         image_width: int = 320,
         image_height: int = 240,
         image_fov: float = 70.0,
+        doors: float | None = None,
     ) -> None:
         # pickle and deepcopy rebuild the env from these arguments (a MjSpec cannot be pickled),
         # as Gymnasium's MuJoCo envs do: the copy is a fresh env that needs a reset
@@ -162,6 +166,8 @@ class PlaceNavEnv(gym.Env, gym.utils.EzPickle):
                           f"n_cameras={n_cameras}")
         if layout != "grid":  # grid worlds keep the fingerprint their saved maps were made with
             self._world_id += f" layout={layout}"
+        if doors is not None:  # a building with doors is another building
+            self._world_id += f" doors={doors}"
         if camera != "panorama":  # a map of forward images is not a map of panoramas
             self._world_id += f" camera={camera} {image_width}x{image_height} fov={image_fov}"
         # vertical field of view of the forward camera from its horizontal one and its aspect
@@ -170,10 +176,11 @@ class PlaceNavEnv(gym.Env, gym.utils.EzPickle):
         self.geometry = PanoramaGeometry(panorama_width, panorama_height, n_cameras)
         self.scene: Scene = build_scene(scene_seed, n_rooms, lighting, n_cameras,
                                         self.geometry.fovy, extra_doors, self.changes, layout,
-                                        forward_fovy)
+                                        forward_fovy, doors)
         self.model = self.scene.model
         self.data = mujoco.MjData(self.model)
         self.robot = Robot(self.model)
+        self._doors = DoorOpener(self.model, self.plan)
         self.n_substeps = max(1, round(control_dt / self.model.opt.timestep))
         self._renderer: SceneRenderer | None = None
         self._visited: set[int] = set()
@@ -220,6 +227,7 @@ class PlaceNavEnv(gym.Env, gym.utils.EzPickle):
             episode = int(self.np_random.integers(2**63))
             self._camera_rng = np.random.default_rng([self.changes.seed, episode])
         self.robot.place(self.data, x, y, heading)
+        self._doors.update(self.data, x, y)
         mujoco.mj_forward(self.model, self.data)
         info = self._info()
         self._visited = {info["room_id"]}
@@ -231,6 +239,8 @@ class PlaceNavEnv(gym.Env, gym.utils.EzPickle):
     ) -> tuple[dict[str, np.ndarray], float, bool, bool, dict[str, Any]]:
         action = check_action(action)
         self.robot.command(self.data, action)
+        x, y, _ = self.robot.pose(self.data)
+        self._doors.update(self.data, x, y)  # the doors the step's physics and frame see
         self._physics()
         info = self._info()
         reward = 0.0

@@ -66,7 +66,8 @@ class Door:
     """A doorway of width ``width`` centred at (x, y) in the wall between ``rooms``.
 
     ``axis`` is the axis the wall runs along: ``"x"`` for a wall at constant y, ``"y"`` for a wall
-    at constant x.
+    at constant x. ``leaf``: the doorway has a door that shuts it while the robot is away
+    (:mod:`envs.world.doors`).
     """
 
     rooms: tuple[int, int]
@@ -74,6 +75,7 @@ class Door:
     y: float
     axis: str
     width: float = DOOR_WIDTH
+    leaf: bool = False
 
     def approach(self, room: Room, distance: float = 0.8) -> tuple[float, float]:
         """Point ``distance`` metres in front of the door on ``room``'s side."""

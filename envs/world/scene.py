@@ -25,6 +25,7 @@ from . import textures
 from .changes import Changes, rearrange_furniture, swap_posters
 from .conditions import LIGHTS, check_lighting
 from .corridor import corridor_floor_plan
+from .doors import add_doors, hang_doors
 from .layout import WALL_THICKNESS, FloorPlan, Room, Wall, generate_floor_plan
 from .panorama import camera_yaw
 from .robot import MAX_RANGE, N_RANGES, RADIUS
@@ -74,6 +75,7 @@ def build_scene(
     changes: Changes | None = None,
     layout: str = "grid",
     forward_fovy: float = 55.4,
+    doors: float | None = None,
 ) -> Scene:
     """Generate a floor plan from ``scene_seed`` and compile it into a MuJoCo model.
 
@@ -89,6 +91,9 @@ def build_scene(
             (:class:`~envs.world.changes.Changes`; its camera fields are the env's business).
         layout: one of :data:`LAYOUTS`; ``corridor`` ignores ``extra_doors``.
         forward_fovy: vertical field of view of the forward-looking camera, degrees.
+        doors: ``None`` for open doorways of 1 m (the default: no door, no frame); else the
+            fraction of doorways with a leaf, every doorway framed and of a width drawn from a
+            range (:mod:`envs.world.doors`).
 
     Returns:
         The compiled :class:`Scene`.
@@ -103,6 +108,8 @@ def build_scene(
         plan = generate_floor_plan(n_rooms, rng, extra_doors=extra_doors)
     changes = changes or Changes()
     plan = rearrange_furniture(plan, changes)  # its own random stream: textures stay the same
+    if doors is not None:
+        plan = hang_doors(plan, doors, scene_seed)  # its own random stream too
     spec = mujoco.MjSpec()
     spec.modelname = f"placenav_{scene_seed}_{n_rooms}"
     _setup_visual(spec, plan, lighting)
@@ -113,6 +120,8 @@ def build_scene(
     posters: list[str] = []
     _add_floor(spec, plan, rng, rooms)
     _add_walls(spec, plan, rng, rooms, posters)
+    if doors is not None:
+        add_doors(spec, plan, WALL_HEIGHT, rooms)
     swap_posters(spec, posters, changes)
     _add_furniture(spec, plan, rng, rooms)
     cams = _add_robot(spec, n_cameras, camera_fovy, forward_fovy)

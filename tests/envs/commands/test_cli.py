@@ -202,6 +202,22 @@ def test_cluster_takes_an_image_folder_and_queries_on_its_map(tmp_path, two_plac
     for name in ("assignments.npy", "query_assignments.npy", "places.png"):
         assert (tmp_path / "out" / name).is_file()
     assert "query_top1" in capsys.readouterr().out
+    assert not (tmp_path / "out" / "place_map.png").exists()  # labels.csv has no poses
+
+
+def test_an_exported_tour_clusters_as_its_npz_does_with_a_map_of_its_poses(tmp_path):
+    main(["tour", "--rooms", "2", "--steps", "30", "--width", "128", "--height", "32",
+          "--out", str(tmp_path / "t"), "--export-images", str(tmp_path / "img"), "--quiet"])
+    main(["cluster", "--tour", str(tmp_path / "t" / "tour.npz"), "--features", "orb",
+          "--out", str(tmp_path / "a"), "--quiet"])
+    main(["cluster", "--images", str(tmp_path / "img"), "--features", "orb",
+          "--out", str(tmp_path / "b"), "--quiet"])
+    npz, folder = (json.loads((tmp_path / d / "metrics.json").read_text()) for d in "ab")
+    for key in ("precision", "recall", "nmi", "n_places", "n_rooms"):
+        assert npz[key] == folder[key], key
+    assert np.array_equal(np.load(tmp_path / "a" / "assignments.npy"),
+                          np.load(tmp_path / "b" / "assignments.npy"))
+    assert (tmp_path / "b" / "place_map.png").is_file()
 
 
 def test_cluster_takes_a_vpr_bench_folder(tmp_path, two_places):

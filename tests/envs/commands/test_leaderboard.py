@@ -135,6 +135,21 @@ def test_errands_can_start_carried_in_a_corridor_and_say_so(tmp_path):
     assert all(e["shortest"] >= 1.0 for e in doc["buildings"][0]["errands"])
 
 
+def test_errands_run_in_buildings_with_doors_and_say_so(tmp_path, capsys):
+    out = tmp_path / "doors.json"
+    code = closed_loop.main(["--scene-seeds", "1000", "--rooms", "3", "--recognizer", "oracle",
+                             "--goals-per-scene", "2", "--tour-steps-per-room", "40",
+                             "--doors", "1.0", "--json", str(out)])
+    assert code == 0
+    doc = json.loads(out.read_text())
+    assert doc["settings"]["task"] == {"tour_steps_per_room": 40, "doors": 1.0}
+    assert doc["buildings"][0]["success_rate"] == 1.0  # the true rooms get through the doors
+    assert closed_loop.main(["--scene-seeds", "1000", "--recognizer", "oracle", "--doors", "2",
+                             "--out", str(tmp_path / "bad")]) == 2
+    assert not (tmp_path / "bad").exists()
+    assert "--doors must be a fraction" in capsys.readouterr().err
+
+
 def test_two_policies_keep_two_job_files():
     job = {"scene_seed": 2000, "n_rooms": 6, "recognizer": "panorama-orb", "agent": "ppo",
            "goals": 5, "seed": 0}

@@ -43,6 +43,7 @@ def test_summary_reports_mean_and_worst_beside_the_paper(row):
 @pytest.mark.parametrize("args, named", [
     (["--param", "min_matchez=3"], "min_matchez"),
     (["--rooms", "0"], "n_rooms"),
+    (["--doors", "1.5"], "--doors must be a fraction"),
 ])
 def test_bad_input_is_one_line_of_error(capsys, args, named):
     assert seed001.main(["--scene-seeds", "1000", *args]) == 2
