@@ -133,7 +133,7 @@ train-errands: $(VENV)/.installed
 # task: carried to each errand's start (grid and corridor buildings) and continued from the tour
 # (grid). Each trains in 6 (PPO) to 15 (LSTM) minutes on 2 cores, then its policy is chosen among
 # its checkpoints on val (best_model.zip); the continued PPO agents are trained with a second
-# seed too (their table pools the two): about 3.5 hours in all
+# seed too (their table resamples the two as seeds): about 3.5 hours in all
 TOUR_AGENTS := noplace place oracle noplace_lstm place_lstm
 TOUR_TASKS := carried:ppo_tour_carried continued:ppo_tour
 SEED1_AGENTS := noplace place oracle
@@ -169,7 +169,7 @@ agents-tour: $(VENV)/.installed
 			--against oracle noplace noplace_lstm $(DOCS) --section agents-carried-$$l || exit 1; done
 
 # the agents of errands continued from the tour on the suite's leaderboard (60 test buildings):
-# the five trained on them (the PPO ones' two seeds pooled), place also on a PANORAMA_ORB map,
+# the five trained on them (the PPO ones with their two seeds), place also on a PANORAMA_ORB map,
 # and the carried noplace and place agents, in one paired table (about 2 hours, 70 minutes of it
 # PANORAMA_ORB); continued place paired with the planner on the same maps (make leaderboard);
 # and how far the PPO agents' dead reckoning drifts on 6 val buildings (train.drift, 3 minutes).
@@ -179,7 +179,7 @@ SUITE_RUNS := noplace:none:continued_noplace noplace_s1:none:continued_noplace_s
 	place_s1:oracle,panorama-orb:continued_place_s1 place_lstm:oracle:continued_place_lstm \
 	oracle:oracle:continued_oracle oracle_s1:oracle:continued_oracle_s1 \
 	carried_noplace:none:carried_noplace carried_place:oracle:carried_place
-# NAME:RUN[+RUN]:RECOGNIZER, a row of the table (runs joined by + are seeds, pooled):
+# NAME:RUN[+RUN]:RECOGNIZER, a row of the table (runs joined by + are one agent's seeds):
 # place_true is the place agent on the true rooms
 SUITE_ROWS := noplace:noplace+noplace_s1:none noplace_lstm:noplace_lstm:none \
 	place:place+place_s1:panorama-orb place_true:place+place_s1:oracle \

@@ -6,13 +6,14 @@
 
 Each ``NAME=FILE`` is one agent's ``placeclust errands --json`` results, or
 ``NAME=FILE@RECOGNIZER`` one recognizer's rows of a file that holds several (a leaderboard's
-``results.json``, the planner's for instance); ``NAME=FILE,FILE...`` pools one agent's runs of
-several training seeds, each building's errands from all of them (the training recipe's figure
-rather than one seed's). The table gives each agent's success and SPL with their 95% intervals
-over buildings, and for each ``--against`` agent the paired difference of success with its
-interval (:func:`placeclust.stats.paired_difference`, the buildings resampled jointly). A line
-under the table says whether the first ``--against`` agent, the upper bracket, is below any
-other beyond its interval.
+``results.json``, the planner's for instance); ``NAME=FILE,FILE...`` is one agent trained with
+several seeds (the training recipe's figure rather than one seed's). The table gives each
+agent's success and SPL with their 95% intervals, and for each ``--against`` agent the paired
+difference of success with its interval: a bootstrap that resamples the buildings (jointly,
+for a paired difference) and each agent's training seeds (:func:`placeclust.stats.over_seeds`),
+so seed-to-seed variance is in the interval; an agent of several seeds also shows each seed's
+success. A line under the table says whether the first ``--against`` agent, the upper
+bracket, is below any other beyond its interval.
 
 Files from different buildings, errands or tours are refused as ``placeclust compare`` refuses
 them (:func:`envs.commands.compare.differences`); the agent, its policy and the recognizer may
@@ -31,7 +32,7 @@ from typing import Any
 from envs.commands.compare import differences
 from envs.commands.results import groups, load_results, policy_name, seed_span
 from placeclust.docs_section import write_section
-from placeclust.stats import Estimate, interval, paired_difference
+from placeclust.stats import Estimate, over_seeds
 
 
 def load_agents(named: list[str]) -> dict[str, dict[str, Any]]:
@@ -87,7 +88,8 @@ def _seeds_pooled(runs: list[dict[str, Any]]) -> dict[str, Any]:
     rows = [{**same[0], "errands": [e for r in same for e in r["errands"]]}
             for same in zip(*per_seed, strict=True)]
     policies = [doc["settings"].get("policy") for doc in runs]
-    return {**first, "buildings": rows, "settings": {**first["settings"], "policy": policies}}
+    return {**first, "buildings": rows, "settings": {**first["settings"], "policy": policies},
+            "seed_runs": runs}
 
 
 def _check_comparable(first: dict[str, Any], doc: dict[str, Any], what: str) -> None:
@@ -106,6 +108,11 @@ def _rows(doc: dict[str, Any], seeds: list[int]) -> list[dict[str, Any]]:
     return [by_seed[s] for s in seeds]
 
 
+def _per_seed(doc: dict[str, Any], seeds: list[int], key: str) -> list[list]:
+    """``key``'s groups over the buildings ``seeds``, one per training seed of the agent."""
+    return [groups(_rows(run, seeds), key) for run in doc.get("seed_runs", [doc])]
+
+
 def _cell(est: Estimate, sign: bool = False) -> str:
     text = f"{est.mean:+.2f} [{est.low:+.2f}, {est.high:+.2f}]" if sign else \
         f"{est.mean:.2f} [{est.low:.2f}, {est.high:.2f}]"
@@ -122,9 +129,11 @@ def agents_table(docs: dict[str, dict[str, Any]], against: list[str]) -> tuple[s
     seeds = _shared_seeds(docs.values())
     if len(seeds) < 2:
         raise ValueError(f"the files share {len(seeds)} buildings; pairing needs 2 or more")
-    success = {n: groups(_rows(d, seeds), "success_rate") for n, d in docs.items()}
-    spl = {n: groups(_rows(d, seeds), "spl") for n, d in docs.items()}
-    head = ["agent", "policy", "map", "success", "SPL", *(f"− {a}" for a in against)]
+    success = {n: _per_seed(d, seeds, "success_rate") for n, d in docs.items()}
+    spl = {n: _per_seed(d, seeds, "spl") for n, d in docs.items()}
+    seeded = any(len(s) > 1 for s in success.values())
+    head = ["agent", "policy", "map", "success", "SPL", *(["success per seed"] if seeded else []),
+            *(f"− {a}" for a in against)]
     lines = ["| " + " | ".join(head) + " |", "|" + "---|" * len(head)]
     below = []
     for name, doc in docs.items():
@@ -138,12 +147,15 @@ def agents_table(docs: dict[str, dict[str, Any]], against: list[str]) -> tuple[s
             if ref == name:
                 diffs.append("")
                 continue
-            est = paired_difference(success[name], success[ref])
+            est = over_seeds(success[name], success[ref])
             diffs.append(_cell(est, sign=True))
             if ref == against[0] and est.low > 0:
                 below.append(name)
+        per_seed = [" / ".join(f"{over_seeds([s]).mean:.2f}" for s in success[name])] \
+            if seeded else []
         cells = [f"`{name}`", policy, doc["summaries"][0]["recognizer"],
-                 _cell(interval(success[name])), _cell(interval(spl[name])), *diffs]
+                 _cell(over_seeds(success[name])), _cell(over_seeds(spl[name])), *per_seed,
+                 *diffs]
         lines.append("| " + " | ".join(cells) + " |")
     return "\n".join(lines), below
 
@@ -174,7 +186,8 @@ def main(argv: list[str] | None = None) -> int:
                "interval: the bracket does not hold.")
     body = (f"{first['settings']['split']} buildings {seed_span(seeds)} "
             f"({len(seeds)}, {first['settings']['rooms']} rooms, {errands} errands"
-            f"{', ' + task if task else ''}); mean [95% bootstrap interval over buildings]; "
+            f"{', ' + task if task else ''}); mean [95% bootstrap interval over buildings "
+            "and, for an agent of several training seeds, its seeds]; "
             "differences paired on the same buildings and errands, **bold** where the "
             f"interval excludes 0.\n\n{text}\n\n{bracket}")
     print(body)

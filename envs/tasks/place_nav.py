@@ -80,7 +80,7 @@ class PlaceNavEnv(gym.Env, gym.utils.EzPickle):
     | ``lighting`` | ``"day"`` | ``"day"``, ``"cloudy"`` or ``"night"``, as in COLD |
     | ``n_cameras`` | 4 | cameras in the ring the panorama is stitched from |
     | ``extra_doors`` | 0.5 | fraction of non-tree walls with a door (loops); 0 gives a tree |
-    | ``doors`` | ``None`` | ``None``: open doorways, 1 m wide; a fraction F in [0, 1]: every doorway framed and 0.8-1.0 m wide, F of them with an automatic door, shut until the robot is within 1.5 m (:mod:`envs.world.doors`) |
+    | ``doors`` | ``None`` | ``None``: open doorways, 1 m wide; a fraction F in [0, 1]: every doorway framed and 0.8-1.0 m wide, F of them with an automatic door, shut until the robot is within 0.7 m (:mod:`envs.world.doors`) |
     | ``layout`` | ``"grid"`` | ``"grid"``: rooms of random sizes; ``"corridor"``: ``n_rooms - 1`` identical offices along a corridor, told apart only by how they look (:mod:`envs.world.corridor`) |
     | ``control_dt`` | 0.1 | seconds of simulation per step (physics runs at 5 ms) |
     | ``panorama`` | ``True`` | render the panorama into the observation |

@@ -148,3 +148,33 @@ def test_a_paired_suite_score_needs_the_pairing():
 def test_one_building_says_it_has_no_interval_instead_of_nan():
     assert interval([[1, 0, 1, 1]]).text() == "0.75 [1 building: no interval]"
     assert "nan" not in interval([[1, 0]]).text(3)
+
+
+def test_over_seeds_with_one_seed_is_the_paired_bootstrap_over_buildings():
+    from placeclust.stats import over_seeds, paired_difference
+
+    rng = np.random.default_rng(3)
+    a = [rng.integers(0, 2, 5) for _ in range(20)]
+    b = [rng.integers(0, 2, 5) for _ in range(20)]
+    one, paired = over_seeds([a], [b]), paired_difference(a, b)
+    assert one.mean == pytest.approx(paired.mean)
+    assert one.low == pytest.approx(paired.low, abs=0.05)
+    assert one.high == pytest.approx(paired.high, abs=0.05)
+
+
+def test_over_seeds_holds_the_seeds_spread_and_pairs_the_buildings():
+    from placeclust.stats import over_seeds
+
+    rng = np.random.default_rng(4)
+    hard = rng.uniform(0, 1, 30)  # buildings differ a lot; a and b alike on each
+    a = [[rng.random(4) < h + 0.1 for h in hard] for _ in range(3)]
+    b = [[rng.random(4) < h for h in hard]]
+    paired = over_seeds(a, b)
+    unpaired_a, unpaired_b = over_seeds(a), over_seeds(b)
+    assert paired.half_width < unpaired_a.half_width + unpaired_b.half_width
+    # one seed that fails everywhere beside two that succeed: a wide interval
+    seeds = [[np.ones(4)] * 10, [np.ones(4)] * 10, [np.zeros(4)] * 10]
+    est = over_seeds(seeds)
+    assert est.mean == pytest.approx(2 / 3) and est.low <= 1 / 3 and est.high == 1.0
+    with pytest.raises(ValueError, match="same buildings"):
+        over_seeds([[np.ones(2)] * 3, [np.ones(2)] * 4])
