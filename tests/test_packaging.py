@@ -104,3 +104,19 @@ def test_the_installed_wheel_works_outside_the_repository(wheel, tmp_path):
     paired = run(placeclust, "compare", results, results, "--a", "mine:HaarPlaces",
                  "--b", "oracle")
     assert "| success_rate |" in paired and "Paired on 2 buildings" in paired
+
+
+def test_the_oldest_versions_tested_are_the_floors_declared():
+    """``make test-oldest`` installs tests/oldest.txt: each pin must be a dependency's floor."""
+    import re
+
+    tomllib = pytest.importorskip("tomllib")  # Python 3.11+
+    floors = {}
+    for dep in tomllib.loads((ROOT / "pyproject.toml").read_text())["project"]["dependencies"]:
+        name, floor = re.fullmatch(r"([A-Za-z0-9_.-]+)>=([0-9.]+)", dep.split(";")[0]).groups()
+        floors[name.lower()] = floor
+    pins = dict(line.split("==") for line in (ROOT / "tests" / "oldest.txt").read_text().split()
+                if "==" in line)
+    assert set(pins) == set(floors)
+    for name, pin in pins.items():
+        assert pin.startswith(floors[name]), f"{name}: floor {floors[name]}, tested {pin}"
