@@ -234,6 +234,7 @@ def test_cluster_takes_a_vpr_bench_folder(tmp_path, two_places):
 @pytest.mark.parametrize("setup, extra, message", [
     ("missing", (), "does not exist"),
     ("empty", (), "holds no image"),
+    ("not an image", (), "000001.png: not a png or jpg"),
     ("mislabelled", (), "labels.csv has no row for 5 of the 6 images"),
     ("bad truth", (), "ground_truth_new.npy"),
     ("unlabelled", ("--query", "{map}"), "has no labels.csv"),
@@ -254,6 +255,9 @@ def test_bad_image_input_is_one_line_exit_2_and_writes_nothing(tmp_path, two_pla
             (folder / "ground_truth_new.npy").write_bytes(b"damaged")
     elif setup == "empty":
         folder.mkdir()
+    elif setup == "not an image":
+        _image_folder(folder, frames[:3], truth[:3])
+        (folder / "000001.png").write_text("a text file named like an image")
     elif setup == "mislabelled":
         _image_folder(folder, frames[:6], truth[:6], labels=False)
         (folder / "labels.csv").write_text("frame,label\n0,a\n")
