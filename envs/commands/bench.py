@@ -16,9 +16,8 @@ How it is run:
   rendering that made it). Started again with the same matrix, the benchmark skips finished
   runs whose stamp is still this run's: an interrupted benchmark resumes where it stopped, and
   a stale run is run again and counted, never reused silently.
-- A condition is a lighting (``day``, ``cloudy``, ``night``) or an appearance change
-  (``moved``: furniture and posters; ``noisy``: camera noise and blur), see
-  :data:`envs.world.conditions.CONDITIONS`. One written ``"day>night"`` is a cross-condition run:
+- A condition is a lighting or an appearance change (:data:`envs.world.conditions.CONDITIONS`).
+  One written ``"day>night"`` is a cross-condition run:
   a recognizer maps the ``day`` tour, then localizes on the ``night`` tour of the same route
   with the map fixed (``localize_one``, as :meth:`OnlinePlaceClustering.localize_one`), scored
   with the places' day rooms. Every recognizer that can localize takes part (``online``,
@@ -73,13 +72,15 @@ class RunSpec:
     #: and its :func:`~placeclust.realdata.fingerprint`
     dataset: str = ""
     dataset_hash: str = ""
+    #: the building's doors (``PlaceNav-v0``'s ``doors``; None: open doorways)
+    doors: float | None = None
 
     @property
     def key(self) -> str:
         """A short hash of the configuration and the placeclust version: the run's file name
         and resume key (a new version never reuses an old version's results)."""
-        fields = {k: v for k, v in asdict(self).items()
-                  if v or k not in ("dataset", "dataset_hash")}
+        fields = {k: v for k, v in asdict(self).items()  # options off keep the keys they had
+                  if k not in ("dataset", "dataset_hash", "doors") or v not in ("", None)}
         text = json.dumps({**fields, "placeclust": __version__}, sort_keys=True)
         return hashlib.sha1(text.encode()).hexdigest()[:16]
 
@@ -88,7 +89,7 @@ class RunSpec:
         """What fixes the tour's frames: runs with the same ``tour`` share one recording (or
         one data set)."""
         return (self.scene_seed, self.world_rooms, self.condition, self.tour_seed,
-                self.steps_per_room, self.width, self.height, self.dataset)
+                self.steps_per_room, self.width, self.height, self.dataset, self.doors)
 
 
 @dataclass(frozen=True)
@@ -110,6 +111,8 @@ class Matrix:
     params: tuple[tuple[str, object], ...] = ()
     #: real data sets beside the simulated tours: labelled image folders, VPR-Bench folders
     datasets: tuple[str, ...] = ()
+    #: the simulated buildings' doors (:mod:`envs.world.doors`; None: open doorways)
+    doors: float | None = None
 
     def __post_init__(self) -> None:
         # each algo is a name of ALGORITHMS or package.module:Class (check_params loads it,
@@ -132,6 +135,8 @@ class Matrix:
             raise ValueError("latency_sizes must be at least 2 places")
         for path in self.datasets:
             dataset_kind(path)  # a folder it cannot score is named now, before any run
+        if self.doors is not None and not 0 <= self.doors <= 1:
+            raise ValueError(f"doors must be a fraction in [0, 1], got {self.doors}")
 
     @property
     def latency_sweeps(self) -> tuple[str, ...]:
@@ -152,7 +157,7 @@ class Matrix:
                             for seed in self.tour_seeds:
                                 out.append(RunSpec(algo, feat, scene, n, condition, seed,
                                                    self.steps_per_room, self.width, self.height,
-                                                   self.params))
+                                                   self.params, doors=self.doors))
         return out + self._dataset_runs()
 
     def _dataset_runs(self) -> list[RunSpec]:
@@ -334,7 +339,8 @@ def _record(spec: RunSpec) -> tuple[np.ndarray, np.ndarray]:
 
     steps = spec.steps_per_room * spec.world_rooms
     tour, _ = record_tour(spec.scene_seed, spec.world_rooms, steps, spec.tour_seed, spec.width,
-                          spec.height, progress=False, **CONDITIONS[spec.condition])
+                          spec.height, progress=False, doors=spec.doors,
+                          **CONDITIONS[spec.condition])
     return tour.frames, tour.room
 
 

@@ -117,7 +117,9 @@ def worlds_line(rows: list[dict]) -> str:
     """Which scene seeds the runs come from, and their split (:mod:`envs.world.splits`)."""
     seeds = sorted({int(r["scene_seed"]) for r in rows})
     splits = sorted({split_of(s) or "none" for s in seeds})
-    return f"Scene seeds {', '.join(map(str, seeds))}; split: {', '.join(splits)}."
+    doors = sorted({r["doors"] for r in rows if r.get("doors") is not None})
+    with_doors = f"; doors {', '.join(map(str, doors))} (envs.world.doors)" if doors else ""
+    return f"Scene seeds {', '.join(map(str, seeds))}; split: {', '.join(splits)}{with_doors}."
 
 
 def latency_table(latency: list[dict]) -> str:

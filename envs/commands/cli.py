@@ -207,6 +207,8 @@ def bench_plan(args: argparse.Namespace) -> tuple[Matrix, Path]:
         ("latency_sizes", args.latency_sizes), ("datasets", args.dataset)) if value is not None}
     if args.steps_per_room is not None:
         overrides["steps_per_room"] = args.steps_per_room
+    if args.doors is not None:
+        overrides["doors"] = args.doors
     params = preset_params(args.preset, args.param)
     if params:
         overrides["params"] = tuple(params.items())
@@ -244,6 +246,9 @@ def _add_bench(sub: argparse._SubParsersAction) -> None:
     bench.add_argument("--features", nargs="+", choices=FEATURES)
     bench.add_argument("--scenes", nargs="*", type=int,
                        help="scene seeds of the simulated tours (none: real data sets only)")
+    bench.add_argument("--doors", type=float, metavar="F",
+                       help="simulated buildings with doors: F of the doorways with an automatic "
+                       "door (envs.world.doors; default: open doorways)")
     bench.add_argument("--dataset", nargs="+", metavar="DIR",
                        help="real data sets beside the simulated tours: labelled image folders "
                        "(labels.csv) or VPR-Bench folders (placeclust.datasets)")

@@ -270,6 +270,15 @@ def test_real_data_sets_join_the_matrix_beside_the_tours(datasets, tmp_path) -> 
         replace(TINY, datasets=(str(tmp_path),))
 
 
+def test_doors_are_a_world_option_of_the_matrix() -> None:
+    doored = replace(TINY, doors=1.0).runs()
+    assert {r.doors for r in doored} == {1.0}
+    assert not {r.key for r in doored} & {r.key for r in TINY.runs()}  # other buildings
+    assert doored[0].tour != TINY.runs()[0].tour
+    with pytest.raises(ValueError, match="doors must be a fraction"):
+        replace(TINY, doors=2.0)
+
+
 def test_the_bench_runs_data_sets_and_compares_their_ranking(datasets, tmp_path) -> None:
     folder, vpr = datasets
     matrix = replace(TINY, algos=("online", "nested", "kmeans"), datasets=(folder, vpr),
