@@ -6,7 +6,7 @@ PY := $(VENV)/bin/python
 PIP := $(PY) -m pip
 export MUJOCO_GL ?= egl
 
-.PHONY: demo test test-oldest benchmarks bench bench-quick bench-long bench-env bench-latency train eval \
+.PHONY: demo test test-oldest real-images benchmarks bench bench-quick bench-long bench-env bench-latency train eval \
 	leaderboard train-errands train-tour train-reachroom agents-tour agents-suite seed001 \
 	clean
 
@@ -42,6 +42,23 @@ test-oldest: $(OLDEST)/.installed
 	PYTHONPATH=. $(OLDEST)/bin/python -m pytest -q -n auto --maxprocesses 4 --dist loadfile \
 		-p no:cacheprovider tests/placeclust tests/envs tests/test_examples.py
 
+# The real corridor data set (shared/data, beside the clone) beside 4 val buildings, and the image
+# statistics of simulated forward tours with and without doors: about 10 minutes
+CORRIDOR := ../shared/data/vpr-bench-corridor
+real-images: $(VENV)/.installed
+	$(VENV)/bin/placeclust bench --quick --dataset $(CORRIDOR) --scenes 1000 1001 1002 1003 \
+		--conditions day --algos online nested --features sift kaze orb akaze --latency-sizes \
+		--out runs/corridor $(DOCS)
+	for s in 1000 2000; do for d in "" "--doors 1.0"; do $(VENV)/bin/placeclust tour \
+		--scene-seed $$s --rooms 6 --steps 900 --camera forward $$d --quiet \
+		--out runs/stats/forward-$$s$${d:+-doors}; done; done
+	$(VENV)/bin/placeclust tour --scene-seed 1000 --rooms 6 --steps 900 --quiet \
+		--out runs/stats/panorama-1000
+	$(VENV)/bin/placeclust stats --images $(CORRIDOR) --tour runs/stats/forward-2000/tour.npz \
+		runs/stats/forward-2000-doors/tour.npz runs/stats/forward-1000/tour.npz \
+		runs/stats/forward-1000-doors/tour.npz runs/stats/panorama-1000/tour.npz $(DOCS) \
+		--section image-stats
+
 # Regenerates every table of docs/benchmarks.md, one command after the other (never two timings
 # at once): about 6 hours on a 2-core machine, the full closed-loop suite 106 minutes of it.
 DOCS := --docs docs/benchmarks.md
@@ -73,6 +90,11 @@ benchmarks: $(VENV)/.installed
 	$(VENV)/bin/placeclust seed001 --split test --rooms 6 --workers 2 $(DOCS) --section seed001-test
 	$(VENV)/bin/placeclust seed001 --split test --rooms 6 --workers 2 --param min_matches=250 $(DOCS) \
 		--section seed001-test-250
+	$(VENV)/bin/placeclust seed001 --split test --rooms 6 --workers 2 --doors 1.0 $(DOCS) \
+		--section seed001-test-doors
+	$(VENV)/bin/placeclust bench $(SPLIT_TOURS:orb=) --split test --doors 1.0 \
+		--out runs/panorama-test-doors $(DOCS)
+	$(MAKE) real-images
 	$(VENV)/bin/placeclust latency $(DOCS)
 	$(VENV)/bin/placeclust latency --param consolidate=0.85 --section latency-consolidate \
 		$(DOCS)
