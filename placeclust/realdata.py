@@ -120,10 +120,13 @@ def localize_queries(model: object, query: ImageFolder | Sequence[np.ndarray],
     ranker = getattr(model, "rank_places", None)
     if not alone and ranker is None:
         return localize(model, query, progress), [[] for _ in range(len(query))]
+    from placeclust.progress import progress as progress_bar
+
     places = np.empty(len(query), np.int64)
     lat = np.empty(len(query))
     ranked: list[list[int]] = []
-    for t, frame in enumerate(query):
+    frames = progress_bar(query, enabled=progress, desc="queries", unit="frame")
+    for t, frame in enumerate(frames):
         if alone:
             protocol.reset_position(model)
         start = time.perf_counter()
