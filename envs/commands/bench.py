@@ -133,8 +133,7 @@ class Matrix:
             raise ValueError("rooms and steps_per_room must be at least 1")
         if min(self.latency_sizes, default=2) < 2:
             raise ValueError("latency_sizes must be at least 2 places")
-        for path in self.datasets:
-            dataset_kind(path)  # a folder it cannot score is named now, before any run
+        _ = self._datasets  # a folder it cannot score is named now, before any run
         if self.doors is not None and not 0 <= self.doors <= 1:
             raise ValueError(f"doors must be a fraction in [0, 1], got {self.doors}")
 
@@ -160,25 +159,29 @@ class Matrix:
                                                    self.params, doors=self.doors))
         return out + self._dataset_runs()
 
+    @functools.cached_property
+    def _datasets(self) -> tuple[tuple[str, str, str], ...]:
+        """``(path, condition, fingerprint)`` of each data set, read once: checking a folder
+        opens every image's header."""
+        return tuple((path, DATASET_CONDITION[dataset_kind(path)], fingerprint(path))
+                     for path in self.datasets)
+
     def _dataset_runs(self) -> list[RunSpec]:
         """A run per recognizer, feature type and data set: ``images`` for a labelled folder,
         ``ref>query`` for VPR-Bench (recognizers that can localize only)."""
         out = []
-        for path in self.datasets:
-            condition = DATASET_CONDITION[dataset_kind(path)]
+        for path, condition, digest in self._datasets:
             for algo in self.algos:
                 if ">" in condition and not can_localize(algo):
                     continue
                 out += [RunSpec(algo, feat, -1, 0, condition, 0, 0, 0, 0, self.params, path,
-                                fingerprint(path)) for feat in self.features]
+                                digest) for feat in self.features]
         return out
-
 
     def skipped(self) -> list[str]:
         """The cross-condition runs the matrix leaves out, each as ``algo on condition``:
         recognizers that cannot localize on a fixed map."""
-        conditions = [*self.conditions, *(DATASET_CONDITION[dataset_kind(p)]
-                                          for p in self.datasets)]
+        conditions = [*self.conditions, *(condition for _, condition, _ in self._datasets)]
         return [f"{algo} on {condition}" for condition in dict.fromkeys(conditions)
                 if ">" in condition for algo in self.algos if not can_localize(algo)]
 

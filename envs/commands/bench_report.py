@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import csv
+import math
 from collections.abc import Callable, Iterable, Sequence
 from operator import itemgetter
 from pathlib import Path
@@ -233,10 +234,12 @@ def sim_vs_real(rows: list[dict]) -> str:
                   for m in methods]
         rho = rank_agreement([float(np.mean(sim[m])) for m in methods],
                              [real[m] for m in methods])
+        spread = (f" [{rho.low:.2f}, {rho.high:.2f}]" if math.isfinite(rho.low)
+                  else " (no interval)")
         agreement = (f"Spearman's rank correlation over {rho.n_buildings} methods: "
-                     f"{rho.text()}" if rho.n_buildings >= 3 else
+                     f"{rho.mean:.2f}{spread}" if rho.n_buildings >= 3 else
                      f"{rho.n_buildings} methods: too few to rank (Spearman needs 3).")
-        parts += ["\n".join(lines), "", agreement.replace("building", "method"), ""]
+        parts += ["\n".join(lines), "", agreement, ""]
     return "\n".join(parts) or "No method ran on both a simulated `day` tour and a data set.\n"
 
 

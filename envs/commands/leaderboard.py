@@ -96,11 +96,12 @@ def power_table(summaries: list[dict[str, Any]]) -> str:
 
 
 def rank_agreement(summaries: list[dict[str, Any]]) -> float:
-    """Spearman's rank correlation between the recognizers' success and their NMI."""
-    from scipy.stats import spearmanr
+    """Spearman's rank correlation between the recognizers' success and their NMI (NaN for
+    fewer than 3 recognizers)."""
+    from placeclust import stats
 
-    rho = spearmanr([s["success_rate"] for s in summaries], [s["nmi"] for s in summaries])
-    return float(rho.statistic)
+    return stats.rank_agreement([s["success_rate"] for s in summaries],
+                                [s["nmi"] for s in summaries]).mean
 
 
 def plot(summaries: list[dict[str, Any]], path: Path) -> None:
