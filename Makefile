@@ -6,7 +6,7 @@ PY := $(VENV)/bin/python
 PIP := $(PY) -m pip
 export MUJOCO_GL ?= egl
 
-.PHONY: demo test test-oldest real-images benchmarks bench bench-quick bench-long bench-env bench-latency train eval \
+.PHONY: demo test test-oldest docs-check real-images benchmarks bench bench-quick bench-long bench-env bench-latency train eval \
 	leaderboard train-errands train-tour train-reachroom agents-tour agents-suite seed001 \
 	clean
 
@@ -41,6 +41,11 @@ $(OLDEST)/.installed: pyproject.toml tests/oldest.txt
 test-oldest: $(OLDEST)/.installed
 	PYTHONPATH=. $(OLDEST)/bin/python -m pytest -q -n auto --maxprocesses 4 --dist loadfile \
 		-p no:cacheprovider tests/placeclust tests/envs tests/test_examples.py
+
+# Which tables of docs/benchmarks.md the code has changed under since they were measured
+# (placeclust.freshness; make test fails on one neither measured again nor marked stale there)
+docs-check: $(VENV)/.installed
+	$(PY) -m placeclust.freshness check
 
 # The real corridor data set (shared/data, beside the clone) beside 4 val buildings, and the image
 # statistics of simulated forward tours with and without doors: about 10 minutes
@@ -117,6 +122,8 @@ benchmarks: $(VENV)/.installed
 	for r in panorama panorama-orb; do $(VENV)/bin/placeclust compare runs/long/results.json \
 		runs/quick/results.json --a $$r --b $$r --force $(DOCS) --section compare-long-quick-$$r; done
 	$(MAKE) agents-suite
+	$(PY) -m placeclust.freshness record
+	$(PY) -m placeclust.freshness check --write
 
 # the benchmark matrix (envs/commands/bench.py): results.csv, results.md, precision.png, latency.png
 bench-quick: $(VENV)/.installed

@@ -7,6 +7,10 @@ which command it was, when, and with which version), leaving the rest of the fil
     <!-- BEGIN GENERATED demo -->
     ...
     <!-- END GENERATED demo -->
+
+What each section depends on is recorded apart (:mod:`placeclust.freshness`): after a command
+rewrites a section, ``python -m placeclust.freshness record NAME`` traces it anew, and
+``python -m placeclust.freshness check`` tells which sections today's code would change.
 """
 
 from __future__ import annotations

@@ -1,0 +1,308 @@
+"""Tiny runs of the commands that write ``docs/benchmarks.md``, traced for
+:mod:`placeclust.freshness`.
+
+A section's *probe* is its own command line at a tiny size: the same subcommand, recognizers,
+features, conditions, doors and parameters, on one building of two rooms with a few frames
+(the options that set the size are replaced, ``--docs`` and ``--out`` dropped), in this
+process, so that a tracer sees which functions of the repository produce that section's
+figures. A command that reads results (``compare``, ``score``, ``train.report``, ``stats``)
+first runs the probe of the section that wrote them (the one whose ``--out`` holds them), or,
+for inputs no section writes, a stand-in: a tiny closed-loop run, or tiny tours.
+
+Commands are found by name (the ``placeclust`` console script, ``python -m train.X``): this
+library imports nothing of the simulator.
+
+Examples:
+    >>> probe_argv("placeclust demo --out runs/demo --docs docs/benchmarks.md".split())
+    ['placeclust', 'demo', '--rooms', '2', '--steps', '60']
+"""
+
+from __future__ import annotations
+
+import builtins
+import hashlib
+import inspect
+import io
+import json
+import os
+import runpy
+import shlex
+import subprocess
+import sys
+import threading
+from collections.abc import Iterator
+from contextlib import contextmanager
+from importlib.metadata import entry_points
+from pathlib import Path
+from typing import Any
+
+ROOT = Path(__file__).resolve().parents[2]
+#: the packages whose functions are traced (a user's recognizer in ``examples`` too)
+TRACED = ("placeclust", "envs", "train", "examples")
+_SKIP_FILES = ("docs/", "runs/", ".git/", ".venv")
+
+#: options that only say where a result goes, or how many processes compute it
+_DROP = {"--docs", "--section", "--out", "--json", "--executor", "--ray-address", "--workers",
+         "--quiet"}
+#: options that set a run's size, replaced by each subcommand's tiny values
+_SIZE = {"--scenes", "--scene-seeds", "--n-scenes", "--split", "--rooms", "--tour-seeds",
+         "--steps-per-room", "--steps", "--goals-per-scene", "--tour-steps-per-room",
+         "--suite", "--sizes", "--repeats", "--rounds", "--errands",
+         "--latency-sizes"}
+_TINY = {
+    "demo": "--rooms 2 --steps 60",
+    "tour": "--rooms 2 --steps 40",
+    "bench": "--scenes 0 --rooms 2 --tour-seeds 0 --steps-per-room 15 --latency-sizes "
+             "--workers 1 --quiet",
+    "seed001": "--split val --n-scenes 1 --rooms 2 --steps-per-room 20",
+    "latency": "--sizes 4 8 --repeats 1",
+    "speed": "--steps 10 --rounds 1 --workers 1",
+    "leaderboard": "--split val --n-scenes 2 --rooms 2 --goals-per-scene 1 "
+                   "--tour-steps-per-room 25 --workers 1",
+    "train.drift": "--n-scenes 1 --rooms 2 --errands 1",
+}
+#: the stand-ins for closed-loop results no section writes: two val buildings, with tracks
+#: (for files in a track's folder) or without
+STAND_IN = ("placeclust leaderboard --recognizers oracle none panorama panorama-orb "
+            "--agent relocalizer --track continued changed-night")
+STAND_IN_PLAIN = "placeclust leaderboard --recognizers oracle none panorama panorama-orb"
+_TRACKS = ("continued", "changed-night")  # the stand-in's tracks
+_FLAGS = {"--quick", "--latency-sizes", "--quiet", "--localize-only", "--second", "--force",
+          "--alone"}
+
+
+def _options(argv: list[str]) -> list[tuple[str | None, list[str]]]:
+    """``argv`` as (option, values) pairs; positional arguments under None."""
+    out: list[tuple[str | None, list[str]]] = []
+    for token in argv:
+        if token.startswith("--"):
+            out.append((token.split("=", 1)[0],
+                        token.split("=", 1)[1:] if "=" in token else []))
+        elif out and out[-1][0] is not None and out[-1][0] not in _FLAGS:
+            out[-1][1].append(token)
+        else:
+            out.append((None, [token]))
+    return out
+
+
+def subcommand(argv: list[str]) -> str:
+    """``bench`` for ``placeclust bench ...``, ``train.report`` for ``python -m train.report``."""
+    return argv[2] if argv[:2] == ["python", "-m"] else argv[1]
+
+
+def probe_argv(argv: list[str], out: str | None = None) -> list[str]:
+    """A section's command line at its tiny size, writing under ``out`` (None: nowhere)."""
+    name = subcommand(argv)
+    head = argv[:3] if name.startswith("train.") else argv[:2]
+    kept = [(o, v) for o, v in _options(argv[len(head):]) if o not in _DROP and o not in _SIZE
+            and not (name == "leaderboard" and o == "--size")]  # a suite's size, dropped
+    tokens = [t for o, v in kept for t in ([o] if o else []) + v]
+    tiny = shlex.split(_TINY.get(name, ""))
+    if out is not None and name in ("bench", "leaderboard", "demo", "tour"):
+        tiny += ["--out", out]
+    return head + tokens + tiny
+
+
+def out_dir(argv: list[str]) -> str | None:
+    """Where a command writes (its ``--out``), or None."""
+    return next((v[0] for o, v in _options(argv) if o == "--out" and v), None)
+
+
+def run(argv: list[str]) -> None:
+    """Run a command line in this process (``placeclust ...`` or ``python -m train.X ...``).
+
+    Raises:
+        RuntimeError: it exited with a non-zero status.
+    """
+    saved = sys.argv
+    try:
+        if argv[:2] == ["python", "-m"]:
+            sys.argv = argv[2:]
+            runpy.run_module(argv[2], run_name="__main__", alter_sys=True)
+        else:
+            (script,) = entry_points(group="console_scripts", name=argv[0])
+            script.load()(argv[1:])
+    except SystemExit as e:
+        if e.code not in (0, None):
+            raise RuntimeError(f"{shlex.join(argv)} exited with {e.code}") from None
+    finally:
+        sys.argv = saved
+
+
+def inputs(argv: list[str], produced: dict[str, str]) -> list[tuple[str, str | None]]:
+    """The files under ``runs/`` that a command reads, each with the output folder of the
+    section that writes it (``produced``: ``{out folder: section}``), or None."""
+    found = []
+    for token in (t for o, v in _options(argv) if o not in _DROP for t in v):
+        for path in token.split("=", 1)[-1].split(","):
+            path = path.split("@", 1)[0]
+            if path.startswith("runs/"):
+                owner = next((d for d in produced if path.startswith(d.rstrip("/") + "/")), None)
+                found.append((path, owner))
+    return found
+
+
+def _tour_name(path: str) -> str:
+    return ("panorama" if "panorama" in path else "forward") + ("-doors" if "doors" in path
+                                                                else "")
+
+
+def _track(path: str) -> str | None:
+    parts = Path(path).parts
+    return parts[-2] if len(parts) > 2 and parts[-2] in _TRACKS else None
+
+
+def stand_in(path: str, scratch: Path) -> str:
+    """Where the stand-in run holds a file like ``path``: a track's results if the folder
+    above it names a track, else a run's without tracks; or a tiny tour for a ``tour.npz`` (a
+    panorama one if its path says so, with doors if it says so)."""
+    if path.endswith("tour.npz"):
+        return str(scratch / f"tour-{_tour_name(path)}" / "tour.npz")
+    track = _track(path)
+    return str(scratch / "stand-in" / track / "results.json" if track
+               else scratch / "stand-in-plain" / "results.json")
+
+
+def stand_in_commands(paths: list[str], scratch: Path) -> list[list[str]]:
+    """The runs that make the stand-ins of ``paths``."""
+    runs = []
+    results = [p for p in paths if not p.endswith("tour.npz")]
+    if any(_track(p) for p in results):
+        runs.append(probe_argv(shlex.split(STAND_IN), str(scratch / "stand-in")))
+    if any(not _track(p) for p in results):
+        runs.append(probe_argv(shlex.split(STAND_IN_PLAIN), str(scratch / "stand-in-plain")))
+    for name in sorted({_tour_name(p) for p in paths if p.endswith("tour.npz")}):
+        tour = ("placeclust tour --camera " + name.split("-")[0]
+                + (" --doors 1.0" if name.endswith("doors") else ""))
+        runs.append(probe_argv(shlex.split(tour), str(scratch / f"tour-{name}")))
+    return runs
+
+
+def substitute(argv: list[str], swap: dict[str, str]) -> list[str]:
+    """``argv`` with each input path replaced by its tiny counterpart."""
+    out = []
+    for token in argv:
+        head, _, spec = token.rpartition("=") if "=" in token and not token.startswith("--") \
+            else ("", "", token)
+        files = []
+        for item in spec.split(","):
+            path, at, recognizer = item.partition("@")
+            new = swap.get(path) or next((path.replace(d, t, 1) for d, t in swap.items()
+                                          if path.startswith(d.rstrip("/") + "/")), path)
+            if head and new != path and new.endswith("results.json") and not at:
+                at, recognizer = "@", "oracle"  # an agent's errands: the stand-in's oracle
+            files.append(new + at + recognizer)
+        out.append((head + "=" if head else "") + ",".join(files))
+    return out
+
+
+# -- tracing -------------------------------------------------------------------------------
+
+@contextmanager
+def traced() -> Iterator[dict[str, Any]]:
+    """Record the repository's functions that run, and the repository files opened, in this
+    process while the block runs: ``{"functions": {path: set(qualname)}, "files": set(path)}``.
+    """
+    roots = tuple(str(ROOT / p) + os.sep for p in TRACED)
+    own = str(Path(__file__).resolve().parent) + os.sep  # this package: the tool itself
+    calls: set[tuple[str, str]] = set()
+    files: set[str] = set()
+
+    def tracer(frame: Any, event: str, arg: Any) -> None:
+        code = frame.f_code
+        if code.co_filename.startswith(roots) and not code.co_filename.startswith(own):
+            # a module's or a class's body runs as code that is not a function's: its module's
+            # skeleton covers it
+            function = code.co_flags & inspect.CO_NEWLOCALS
+            calls.add((code.co_filename, getattr(code, "co_qualname", code.co_name)
+                       if function else "<module>"))
+
+    real_open, real_io_open = builtins.open, io.open
+
+    def opening(file: Any, *args: Any, **kwargs: Any) -> Any:
+        if isinstance(file, str | os.PathLike):
+            path = Path(file).resolve()
+            if path.is_relative_to(ROOT) and path.is_file():
+                rel = path.relative_to(ROOT).as_posix()
+                if not rel.startswith(_SKIP_FILES) and not rel.endswith(".py"):
+                    files.add(rel)
+        return real_open(file, *args, **kwargs)
+
+    result: dict[str, Any] = {"functions": {}, "files": set()}
+    sys.settrace(tracer)
+    threading.settrace(tracer)
+    builtins.open = io.open = opening
+    try:
+        yield result
+    finally:
+        sys.settrace(None)
+        threading.settrace(None)  # type: ignore[arg-type,unused-ignore]
+        builtins.open, io.open = real_open, real_io_open
+        for filename, qualname in calls:
+            if "<" in qualname.rsplit(".", 1)[-1]:  # module, class body, lambda, comprehension:
+                qualname = "<module>"  # their module's skeleton or their function covers them
+            path = Path(filename).resolve().relative_to(ROOT).as_posix()
+            names = result["functions"].setdefault(path, set())
+            if qualname != "<module>":
+                names.add(qualname.split(".<locals>.<")[0] if "<locals>.<" in qualname
+                          else qualname)
+        result["files"] = files
+
+
+def as_json(trace: dict[str, Any]) -> dict[str, Any]:
+    return {"functions": {p: sorted(n) for p, n in sorted(trace["functions"].items())},
+            "files": sorted(trace["files"])}
+
+
+def trace_command(argv: list[str], scratch: Path) -> dict[str, Any]:
+    """Trace one command line in a fresh process (so imports and caches start cold)."""
+    scratch.mkdir(parents=True, exist_ok=True)
+    target = scratch / f"trace-{hashlib.sha256(' '.join(argv).encode()).hexdigest()[:12]}.json"
+    if not target.exists():
+        env = {**os.environ, "PYTHONPATH": os.pathsep.join(
+            [str(ROOT), *filter(None, [os.environ.get("PYTHONPATH")])])}
+        done = subprocess.run([sys.executable, "-m", "placeclust.freshness", "_trace",
+                               str(target), "--", *argv], cwd=ROOT, env=env,
+                              capture_output=True, text=True)
+        if done.returncode != 0:
+            raise RuntimeError(f"{' '.join(argv)}: {done.stderr.strip()[-2000:]}")
+    return json.loads(target.read_text())
+
+
+def union(traces: list[dict[str, Any]]) -> dict[str, Any]:
+    functions: dict[str, set[str]] = {}
+    for t in traces:
+        for path, names in t["functions"].items():
+            functions.setdefault(path, set()).update(names)
+    return as_json({"functions": functions, "files": {f for t in traces for f in t["files"]}})
+
+
+def probe_runs(name: str, commands: dict[str, list[str]], scratch: Path) -> list[list[str]]:
+    """The tiny command lines whose traces make up section ``name``'s (``commands``: every
+    section's command line): the runs that make its inputs, then its own."""
+    produced = {d: n for n, c in commands.items() if (d := out_dir(c))}
+    argv = commands[name]
+    runs, swap = [], {}
+    found = inputs(argv, produced)
+    for owner in sorted({o for _, o in found if o}):
+        folder = str(scratch / produced[owner])
+        runs.append(probe_argv(commands[produced[owner]], folder))
+        swap[owner] = folder
+    alone = [p for p, o in found if o is None]
+    runs += stand_in_commands(alone, scratch)
+    swap.update({p: stand_in(p, scratch) for p in alone})
+    runs.append(probe_argv(substitute(argv, swap), str(scratch / name)))
+    return runs
+
+
+def trace_main(argv: list[str]) -> int:
+    """``python -m placeclust.freshness _trace OUT -- COMMAND...``: run one command traced,
+    write what it ran to OUT (a JSON file); :func:`trace_command` calls it in a process of its
+    own."""
+    if len(argv) < 3 or argv[1] != "--":
+        print("usage: python -m placeclust.freshness _trace OUT -- COMMAND ...", file=sys.stderr)
+        return 2
+    with traced() as found:
+        run(argv[2:])
+    Path(argv[0]).write_text(json.dumps(as_json(found)))
+    return 0

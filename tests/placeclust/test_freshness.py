@@ -1,0 +1,173 @@
+"""The check that tells which generated tables of the docs the code has moved under."""
+
+import json
+import shlex
+
+import pytest
+
+from placeclust.docs_section import write_section
+from placeclust.freshness import check as freshness
+from placeclust.freshness import probes
+
+MODULE = "placeclust/stats.py"
+
+
+def test_docstrings_comments_and_layout_do_not_count_code_and_constants_do():
+    code = "X = 1\n\ndef f(a):\n    '''Say.'''\n    return a + X  # why\n\ndef g():\n    pass\n"
+    reworded = code.replace("Say.", "Say otherwise.").replace("# why", "# because")
+    assert freshness.source_digest(code, ["f"]) == freshness.source_digest(reworded, ["f"])
+    for changed in (code.replace("a + X", "a - X"), code.replace("X = 1", "X = 2"),
+                    code.replace("def f(a)", "def f(a=3)")):
+        assert freshness.source_digest(code, ["f"]) != freshness.source_digest(changed, ["f"])
+    # a function the command never ran may change freely; one that disappears is a change
+    assert freshness.source_digest(code, ["f"]) == freshness.source_digest(
+        code.replace("pass", "return 1"), ["f"])
+    assert freshness.source_digest(code, ["f"]) != freshness.source_digest(
+        code.replace("def f(a)", "def h(a)"), ["f"])
+    assert freshness.source_digest(None, ["f"]) != freshness.source_digest(code, ["f"])
+    assert freshness.source_digest(None, []) == freshness.source_digest("import os\nX = 1\n", [])
+
+
+def test_the_tracer_sees_the_repository_functions_that_ran_and_the_files_read():
+    from placeclust import stats
+
+    with probes.traced() as trace:
+        stats.interval([[0.1, 0.5], [0.9]], n_resamples=50)
+        with open(probes.ROOT / "pyproject.toml") as f:
+            f.read(1)
+    assert "interval" in trace["functions"][MODULE]
+    assert "pyproject.toml" in trace["files"]
+    assert not any(p.startswith("placeclust/freshness/") for p in trace["functions"])
+
+
+@pytest.fixture
+def repo_docs(tmp_path):
+    """A docs file with one section and a manifest that recorded it against stats.py."""
+    docs, manifest = tmp_path / "benchmarks.md", tmp_path / "generated.json"
+    write_section(docs, "table", "| a |\n|---|\n| 1 |", "placeclust demo --out runs/demo")
+    trace = {"functions": {MODULE: ["interval"]}, "files": ["pyproject.toml"]}
+    (stamp, command), = freshness.sections(docs).values()
+    freshness.save({"sections": {"table": {"stamp": stamp, "command": command, "trace": trace,
+                                           "fingerprint": freshness.fingerprint(trace)}},
+                    "acknowledged": {}}, manifest)
+    return docs, manifest
+
+
+def test_a_section_is_current_until_the_code_it_ran_moves(repo_docs):
+    docs, manifest = repo_docs
+    assert freshness.status(docs, manifest)["current"] == ["table"]
+    data = json.loads(manifest.read_text())
+    # as if recorded when interval() read otherwise: today's code would change the table
+    older = freshness.fingerprint(data["sections"]["table"]["trace"], lambda p: (
+        freshness.working_tree(p).replace(b"def interval(", b"def interval(*_unused, ")
+        if p == MODULE else freshness.working_tree(p)))
+    data["sections"]["table"]["fingerprint"] = older
+    freshness.save(data, manifest)
+    assert freshness.status(docs, manifest)["stale"] == ["table"]
+    assert freshness.main(["check", "--docs", str(docs), "--manifest", str(manifest)]) == 1
+    # marked in the docs, it passes, and says so, until the code moves again
+    freshness.main(["check", "--write", "--docs", str(docs), "--manifest", str(manifest)])
+    assert freshness.status(docs, manifest)["acknowledged"] == ["table"]
+    assert "| table | `placeclust demo --out runs/demo` |" in docs.read_text()
+    assert freshness.main(["check", "--docs", str(docs), "--manifest", str(manifest)]) == 0
+
+
+def test_a_section_written_again_is_unrecorded_until_traced(repo_docs):
+    docs, manifest = repo_docs
+    write_section(docs, "table", "| a |\n|---|\n| 2 |", "placeclust demo --rooms 6")
+    assert freshness.status(docs, manifest)["unrecorded"] == ["table"]
+    assert freshness.main(["check", "--docs", str(docs), "--manifest", str(manifest)]) == 1
+
+
+def test_every_generated_section_of_the_docs_is_what_todays_code_measures_or_says_it_is_not():
+    """The gate: change a function a table's command runs and this fails until the table is
+    measured again (then ``python -m placeclust.freshness record NAME``) or marked stale
+    (``python -m placeclust.freshness check --write``)."""
+    if not freshness.comparable():
+        pytest.skip(f"fingerprints recorded with Python {freshness.load()['python']}")
+    state = freshness.status()
+    assert not state["unrecorded"], f"sections never traced: {state['unrecorded']}"
+    assert not state["stale"], (f"the code moved under {state['stale']}: regenerate them or "
+                                "mark them with `python -m placeclust.freshness check --write`")
+
+
+def _probe(command, out="/tmp/x"):
+    return shlex.join(probes.probe_argv(shlex.split(command), out))
+
+
+def test_a_probe_is_the_sections_own_command_at_a_tiny_size():
+    assert _probe("placeclust bench --quick --algos kmeans --conditions day --latency-sizes "
+                  "--param n_clusters=rooms --out runs/m --docs docs/benchmarks.md") == (
+        "placeclust bench --quick --algos kmeans --conditions day --param n_clusters=rooms "
+        "--scenes 0 --rooms 2 --tour-seeds 0 --steps-per-room 15 --latency-sizes --workers 1 "
+        "--quiet --out /tmp/x")
+    # a suite's buildings and size give way to one small val building; its agent stays
+    assert _probe("placeclust leaderboard --suite placenav-v1 --size quick --agent ppo "
+                  "--out runs/quick --docs docs/benchmarks.md") == (
+        "placeclust leaderboard --agent ppo --split val --n-scenes 2 --rooms 2 "
+        "--goals-per-scene 1 --tour-steps-per-room 25 --workers 1 --out /tmp/x")
+
+
+def test_a_command_that_reads_results_runs_what_wrote_them_or_a_stand_in(tmp_path):
+    produced = {"runs/quick": "leaderboard-quick"}
+    argv = shlex.split("placeclust compare runs/quick/results.json runs/other/changed-night/"
+                       "results.json --a x --b y --docs docs/benchmarks.md")
+    assert probes.inputs(argv, produced) == [("runs/quick/results.json", "runs/quick"),
+                                             ("runs/other/changed-night/results.json", None)]
+    assert probes.stand_in("runs/other/changed-night/results.json", tmp_path) == str(
+        tmp_path / "stand-in" / "changed-night" / "results.json")
+    assert probes.stand_in("runs/suite/place/results.json", tmp_path) == str(
+        tmp_path / "stand-in-plain" / "results.json")
+    report = probes.substitute(["python", "-m", "train.report", "a=runs/x/a.json,runs/x/b.json",
+                                "b=runs/quick/results.json@none"],
+                               {"runs/x/a.json": "S/results.json", "runs/x/b.json": "S/r.json",
+                                "runs/quick": "Q"})
+    assert report[3:] == ["a=S/results.json@oracle,S/r.json", "b=Q/results.json@none"]
+
+
+def test_a_constant_counts_where_the_code_that_ran_can_reach_it_across_modules():
+    from placeclust.freshness.check import _digests, _parse
+
+    def digests(presets, other="UNUSED = 1\n"):
+        trees = {"pkg/presets.py": _parse(presets + other),
+                 "pkg/run.py": _parse("from .presets import FAST\n"
+                                      "def run():\n    return FAST['k']\n")}
+        return _digests(trees, {"pkg/run.py": ["run"], "pkg/presets.py": []})
+
+    base = digests("FAST = {'k': 1}\n")
+    assert digests("FAST = {'k': 2}\n") != base  # what run() reads, through the import
+    assert digests("FAST = {'k': 1}\n", other="UNUSED = 2\nNEW = 3\n") == base
+
+
+def test_a_section_measured_again_leaves_the_stale_list_until_it_is_written_anew(repo_docs):
+    docs, manifest = repo_docs
+    data = json.loads(manifest.read_text())
+    data["sections"]["table"]["fingerprint"] = "older"
+    freshness.save(data, manifest)
+    freshness.main(["check", "--write", "--docs", str(docs), "--manifest", str(manifest)])
+    data = json.loads(manifest.read_text())
+    data["sections"]["table"]["fingerprint"] = freshness.fingerprint(
+        data["sections"]["table"]["trace"])  # as `record` does once it is measured again
+    del data["acknowledged"]["table"]
+    freshness.save(data, manifest)
+    assert freshness.status(docs, manifest)["stale"] == ["table"]  # the docs still list it
+    freshness.main(["check", "--write", "--docs", str(docs), "--manifest", str(manifest)])
+    assert freshness.status(docs, manifest)["current"] == ["table"]
+    assert "Every table below is what today's code measures." in docs.read_text()
+
+
+def test_record_traces_a_sections_command_and_check_then_finds_it_current(tmp_path):
+    """End to end: a section written by `placeclust latency` is traced at its tiny size (in a
+    process of its own), and what it ran includes the latency code and not the simulator's
+    tours, which that command never runs."""
+    docs, manifest = tmp_path / "benchmarks.md", tmp_path / "generated.json"
+    write_section(docs, "latency", "| a |\n|---|\n| 1 |", "placeclust latency --docs x.md")
+    freshness.record(["latency"], docs, manifest, tmp_path / "scratch", log=lambda _: None)
+    entry = freshness.load(manifest)["sections"]["latency"]
+    assert entry["probes"] == ["placeclust latency --sizes 4 8 --repeats 1"]
+    assert entry["commit"] is None  # not committed: fingerprinted as the tree stands
+    functions = entry["trace"]["functions"]
+    assert "main" in functions["placeclust/latency.py"]
+    assert "envs/tasks/tour.py" not in functions or "guided_tour" not in functions[
+        "envs/tasks/tour.py"]
+    assert freshness.status(docs, manifest)["current"] == ["latency"]
