@@ -122,7 +122,8 @@ benchmarks: $(VENV)/.installed
 	for r in panorama panorama-orb; do $(VENV)/bin/placeclust compare runs/long/results.json \
 		runs/quick/results.json --a $$r --b $$r --force $(DOCS) --section compare-long-quick-$$r; done
 	$(MAKE) agents-suite
-	$(PY) -m placeclust.freshness record
+	$(PY) -m placeclust.freshness record --now $$($(PY) -c \
+		"from placeclust import freshness; print(*freshness.sections())")
 	$(PY) -m placeclust.freshness check --write
 
 # the benchmark matrix (envs/commands/bench.py): results.csv, results.md, precision.png, latency.png

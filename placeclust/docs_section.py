@@ -9,7 +9,7 @@ which command it was, when, and with which version), leaving the rest of the fil
     <!-- END GENERATED demo -->
 
 What each section depends on is recorded apart (:mod:`placeclust.freshness`): after a command
-rewrites a section, ``python -m placeclust.freshness record NAME`` traces it anew, and
+rewrites a section, ``python -m placeclust.freshness record --now NAME`` traces it anew, and
 ``python -m placeclust.freshness check`` tells which sections today's code would change.
 """
 

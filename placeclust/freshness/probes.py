@@ -2,12 +2,13 @@
 :mod:`placeclust.freshness`.
 
 A section's *probe* is its own command line at a tiny size: the same subcommand, recognizers,
-features, conditions, doors and parameters, on one building of two rooms with a few frames
-(the options that set the size are replaced, ``--docs`` and ``--out`` dropped), in this
-process, so that a tracer sees which functions of the repository produce that section's
-figures. A command that reads results (``compare``, ``score``, ``train.report``, ``stats``)
-first runs the probe of the section that wrote them (the one whose ``--out`` holds them), or,
-for inputs no section writes, a stand-in: a tiny closed-loop run, or tiny tours.
+features, conditions, doors and parameters, on one building of two rooms with a few frames (two
+for the closed loop, whose intervals need two; the options that set the size are replaced,
+``--docs`` and ``--out`` dropped), run in a process of its own under a tracer that sees which
+functions of the repository produce that section's figures (:func:`traced`). A command
+that reads results (``compare``, ``score``, ``train.report``, ``stats``) first runs the probe
+of the section that wrote them (the one whose ``--out`` holds them), or, for inputs no section
+writes, a stand-in: a tiny closed-loop run, or tiny tours.
 
 Commands are found by name (the ``placeclust`` console script, ``python -m train.X``): this
 library imports nothing of the simulator.
@@ -67,8 +68,8 @@ STAND_IN = ("placeclust leaderboard --recognizers oracle none panorama panorama-
             "--agent relocalizer --track continued changed-night")
 STAND_IN_PLAIN = "placeclust leaderboard --recognizers oracle none panorama panorama-orb"
 _TRACKS = ("continued", "changed-night")  # the stand-in's tracks
-_FLAGS = {"--quick", "--latency-sizes", "--quiet", "--localize-only", "--second", "--force",
-          "--alone"}
+#: options that take no value (``--latency-sizes`` may take none, and is replaced anyway)
+_FLAGS = {"--quick", "--quiet", "--localize-only", "--force", "--alone"}
 
 
 def _options(argv: list[str]) -> list[tuple[str | None, list[str]]]:

@@ -7,7 +7,7 @@ import pytest
 
 from placeclust.docs_section import write_section
 from placeclust.freshness import check as freshness
-from placeclust.freshness import probes
+from placeclust.freshness import probes, syntax
 
 MODULE = "placeclust/stats.py"
 
@@ -15,17 +15,17 @@ MODULE = "placeclust/stats.py"
 def test_docstrings_comments_and_layout_do_not_count_code_and_constants_do():
     code = "X = 1\n\ndef f(a):\n    '''Say.'''\n    return a + X  # why\n\ndef g():\n    pass\n"
     reworded = code.replace("Say.", "Say otherwise.").replace("# why", "# because")
-    assert freshness.source_digest(code, ["f"]) == freshness.source_digest(reworded, ["f"])
+    assert syntax.source_digest(code, ["f"]) == syntax.source_digest(reworded, ["f"])
     for changed in (code.replace("a + X", "a - X"), code.replace("X = 1", "X = 2"),
                     code.replace("def f(a)", "def f(a=3)")):
-        assert freshness.source_digest(code, ["f"]) != freshness.source_digest(changed, ["f"])
+        assert syntax.source_digest(code, ["f"]) != syntax.source_digest(changed, ["f"])
     # a function the command never ran may change freely; one that disappears is a change
-    assert freshness.source_digest(code, ["f"]) == freshness.source_digest(
+    assert syntax.source_digest(code, ["f"]) == syntax.source_digest(
         code.replace("pass", "return 1"), ["f"])
-    assert freshness.source_digest(code, ["f"]) != freshness.source_digest(
+    assert syntax.source_digest(code, ["f"]) != syntax.source_digest(
         code.replace("def f(a)", "def h(a)"), ["f"])
-    assert freshness.source_digest(None, ["f"]) != freshness.source_digest(code, ["f"])
-    assert freshness.source_digest(None, []) == freshness.source_digest("import os\nX = 1\n", [])
+    assert syntax.source_digest(None, ["f"]) != syntax.source_digest(code, ["f"])
+    assert syntax.source_digest(None, []) == syntax.source_digest("import os\nX = 1\n", [])
 
 
 def test_the_tracer_sees_the_repository_functions_that_ran_and_the_files_read():
@@ -48,7 +48,7 @@ def repo_docs(tmp_path):
     trace = {"functions": {MODULE: ["interval"]}, "files": ["pyproject.toml"]}
     (stamp, command), = freshness.sections(docs).values()
     freshness.save({"sections": {"table": {"stamp": stamp, "command": command, "trace": trace,
-                                           "fingerprint": freshness.fingerprint(trace)}},
+                                           "fingerprint": syntax.fingerprint(trace)}},
                     "acknowledged": {}}, manifest)
     return docs, manifest
 
@@ -58,9 +58,9 @@ def test_a_section_is_current_until_the_code_it_ran_moves(repo_docs):
     assert freshness.status(docs, manifest)["current"] == ["table"]
     data = json.loads(manifest.read_text())
     # as if recorded when interval() read otherwise: today's code would change the table
-    older = freshness.fingerprint(data["sections"]["table"]["trace"], lambda p: (
-        freshness.working_tree(p).replace(b"def interval(", b"def interval(*_unused, ")
-        if p == MODULE else freshness.working_tree(p)))
+    older = syntax.fingerprint(data["sections"]["table"]["trace"], lambda p: (
+        syntax.working_tree(p).replace(b"def interval(", b"def interval(*_unused, ")
+        if p == MODULE else syntax.working_tree(p)))
     data["sections"]["table"]["fingerprint"] = older
     freshness.save(data, manifest)
     assert freshness.status(docs, manifest)["stale"] == ["table"]
@@ -81,7 +81,7 @@ def test_a_section_written_again_is_unrecorded_until_traced(repo_docs):
 
 def test_every_generated_section_of_the_docs_is_what_todays_code_measures_or_says_it_is_not():
     """The gate: change a function a table's command runs and this fails until the table is
-    measured again (then ``python -m placeclust.freshness record NAME``) or marked stale
+    measured again (then ``python -m placeclust.freshness record --now NAME``) or marked stale
     (``python -m placeclust.freshness check --write``)."""
     if not freshness.comparable():
         pytest.skip(f"fingerprints recorded with Python {freshness.load()['python']}")
@@ -96,8 +96,8 @@ def _probe(command, out="/tmp/x"):
 
 
 def test_a_probe_is_the_sections_own_command_at_a_tiny_size():
-    assert _probe("placeclust bench --quick --algos kmeans --conditions day --latency-sizes "
-                  "--param n_clusters=rooms --out runs/m --docs docs/benchmarks.md") == (
+    assert _probe("placeclust bench --quick --algos kmeans --conditions day --latency-sizes 10 "
+                  "50 --param n_clusters=rooms --out runs/m --docs docs/benchmarks.md") == (
         "placeclust bench --quick --algos kmeans --conditions day --param n_clusters=rooms "
         "--scenes 0 --rooms 2 --tour-seeds 0 --steps-per-room 15 --latency-sizes --workers 1 "
         "--quiet --out /tmp/x")
@@ -126,7 +126,7 @@ def test_a_command_that_reads_results_runs_what_wrote_them_or_a_stand_in(tmp_pat
 
 
 def test_a_constant_counts_where_the_code_that_ran_can_reach_it_across_modules():
-    from placeclust.freshness.check import _digests, _parse
+    from placeclust.freshness.syntax import _digests, _parse
 
     def digests(presets, other="UNUSED = 1\n"):
         trees = {"pkg/presets.py": _parse(presets + other),
@@ -146,7 +146,7 @@ def test_a_section_measured_again_leaves_the_stale_list_until_it_is_written_anew
     freshness.save(data, manifest)
     freshness.main(["check", "--write", "--docs", str(docs), "--manifest", str(manifest)])
     data = json.loads(manifest.read_text())
-    data["sections"]["table"]["fingerprint"] = freshness.fingerprint(
+    data["sections"]["table"]["fingerprint"] = syntax.fingerprint(
         data["sections"]["table"]["trace"])  # as `record` does once it is measured again
     del data["acknowledged"]["table"]
     freshness.save(data, manifest)
@@ -171,3 +171,7 @@ def test_record_traces_a_sections_command_and_check_then_finds_it_current(tmp_pa
     assert "envs/tasks/tour.py" not in functions or "guided_tour" not in functions[
         "envs/tasks/tour.py"]
     assert freshness.status(docs, manifest)["current"] == ["latency"]
+    # measured again with the same text: `--now` records it as the tree stands (trace kept)
+    freshness.record(["latency"], docs, manifest, tmp_path / "scratch", log=lambda _: None,
+                     now=True)
+    assert freshness.load(manifest)["sections"]["latency"]["commit"] is None
