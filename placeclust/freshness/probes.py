@@ -266,7 +266,8 @@ def trace_command(argv: list[str], scratch: Path) -> dict[str, Any]:
                                str(target), "--", *argv], cwd=ROOT, env=env,
                               capture_output=True, text=True)
         if done.returncode != 0:
-            raise RuntimeError(f"{' '.join(argv)}: {done.stderr.strip()[-2000:]}")
+            last = (done.stderr.strip().splitlines() or ["no message"])[-1]
+            raise RuntimeError(f"the tiny run `{shlex.join(argv)}` failed: {last}")
     return json.loads(target.read_text())
 
 
@@ -303,7 +304,10 @@ def trace_main(argv: list[str]) -> int:
     if len(argv) < 3 or argv[1] != "--":
         print("usage: python -m placeclust.freshness _trace OUT -- COMMAND ...", file=sys.stderr)
         return 2
-    with traced() as found:
-        run(argv[2:])
+    try:
+        with traced() as found:
+            run(argv[2:])
+    except RuntimeError:  # the command has said why on stderr: its last line is the reason
+        return 2
     Path(argv[0]).write_text(json.dumps(as_json(found)))
     return 0

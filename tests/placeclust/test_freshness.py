@@ -175,3 +175,9 @@ def test_record_traces_a_sections_command_and_check_then_finds_it_current(tmp_pa
     freshness.record(["latency"], docs, manifest, tmp_path / "scratch", log=lambda _: None,
                      now=True)
     assert freshness.load(manifest)["sections"]["latency"]["commit"] is None
+
+
+def test_a_tiny_run_that_fails_says_why_in_one_line(tmp_path):
+    with pytest.raises(RuntimeError, match=r"failed: error: .*missing\.json: cannot read"):
+        probes.trace_command(["placeclust", "compare", str(tmp_path / "missing.json"),
+                              str(tmp_path / "missing.json"), "--a", "x", "--b", "y"], tmp_path)
