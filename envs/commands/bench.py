@@ -74,13 +74,16 @@ class RunSpec:
     dataset_hash: str = ""
     #: the building's doors (``PlaceNav-v0``'s ``doors``; None: open doorways)
     doors: float | None = None
+    #: windows and lamps (``PlaceNav-v0``'s ``local_light``)
+    local_light: bool = False
 
     @property
     def key(self) -> str:
         """A short hash of the configuration and the placeclust version: the run's file name
         and resume key (a new version never reuses an old version's results)."""
         fields = {k: v for k, v in asdict(self).items()  # options off keep the keys they had
-                  if k not in ("dataset", "dataset_hash", "doors") or v not in ("", None)}
+                  if k not in ("dataset", "dataset_hash", "doors", "local_light")
+                  or v not in ("", None, False)}
         text = json.dumps({**fields, "placeclust": __version__}, sort_keys=True)
         return hashlib.sha1(text.encode()).hexdigest()[:16]
 
@@ -89,7 +92,8 @@ class RunSpec:
         """What fixes the tour's frames: runs with the same ``tour`` share one recording (or
         one data set)."""
         return (self.scene_seed, self.world_rooms, self.condition, self.tour_seed,
-                self.steps_per_room, self.width, self.height, self.dataset, self.doors)
+                self.steps_per_room, self.width, self.height, self.dataset, self.doors,
+                self.local_light)
 
 
 @dataclass(frozen=True)
@@ -113,6 +117,8 @@ class Matrix:
     datasets: tuple[str, ...] = ()
     #: the simulated buildings' doors (:mod:`envs.world.doors`; None: open doorways)
     doors: float | None = None
+    #: the simulated buildings' windows and lamps (:mod:`envs.world.local_light`)
+    local_light: bool = False
 
     def __post_init__(self) -> None:
         # each algo is a name of ALGORITHMS or package.module:Class (check_params loads it,
@@ -156,7 +162,8 @@ class Matrix:
                             for seed in self.tour_seeds:
                                 out.append(RunSpec(algo, feat, scene, n, condition, seed,
                                                    self.steps_per_room, self.width, self.height,
-                                                   self.params, doors=self.doors))
+                                                   self.params, doors=self.doors,
+                                                   local_light=self.local_light))
         return out + self._dataset_runs()
 
     @functools.cached_property
@@ -343,6 +350,7 @@ def _record(spec: RunSpec) -> tuple[np.ndarray, np.ndarray]:
     steps = spec.steps_per_room * spec.world_rooms
     tour, _ = record_tour(spec.scene_seed, spec.world_rooms, steps, spec.tour_seed, spec.width,
                           spec.height, progress=False, doors=spec.doors,
+                          local_light=spec.local_light,
                           **CONDITIONS[spec.condition])
     return tour.frames, tour.room
 

@@ -120,6 +120,8 @@ def worlds_line(rows: list[dict]) -> str:
     splits = sorted({split_of(s) or "none" for s in seeds})
     doors = sorted({r["doors"] for r in rows if r.get("doors") is not None})
     with_doors = f"; doors {', '.join(map(str, doors))} (envs.world.doors)" if doors else ""
+    if any(r.get("local_light") for r in rows):
+        with_doors += "; windows and lamps (envs.world.local_light)"
     return f"Scene seeds {', '.join(map(str, seeds))}; split: {', '.join(splits)}{with_doors}."
 
 

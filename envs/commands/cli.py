@@ -209,6 +209,8 @@ def bench_plan(args: argparse.Namespace) -> tuple[Matrix, Path]:
         overrides["steps_per_room"] = args.steps_per_room
     if args.doors is not None:
         overrides["doors"] = args.doors
+    if args.local_light:
+        overrides["local_light"] = True
     params = preset_params(args.preset, args.param)
     if params:
         overrides["params"] = tuple(params.items())
@@ -249,6 +251,9 @@ def _add_bench(sub: argparse._SubParsersAction) -> None:
     bench.add_argument("--doors", type=float, metavar="F",
                        help="simulated buildings with doors: F of the doorways with an automatic "
                        "door (envs.world.doors; default: open doorways)")
+    bench.add_argument("--local-light", action="store_true",
+                       help="simulated buildings with windows and lamps, the light baked where "
+                       "it falls (envs.world.local_light; default: lit as a whole)")
     bench.add_argument("--dataset", nargs="+", metavar="DIR",
                        help="real data sets beside the simulated tours: labelled image folders "
                        "(labels.csv) or VPR-Bench folders (placeclust.datasets)")

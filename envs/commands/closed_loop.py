@@ -196,9 +196,10 @@ TOUR_STEPS_PER_ROOM = 150
 
 
 def tour_task(steps_per_room: int, errand_start: str = "continue", layout: str = "grid",
-              doors: float | None = None) -> dict[str, Any]:
+              doors: float | None = None, local_light: bool = False) -> dict[str, Any]:
     """The ``PlaceNav-GuidedTour-v1`` arguments a job adds for a tour length, errand start,
-    layout and doors: none for the defaults, so default jobs keep their plain file names."""
+    layout, doors and local light: none for the defaults, so default jobs keep their plain
+    file names."""
     task: dict[str, Any] = {}
     if steps_per_room != TOUR_STEPS_PER_ROOM:
         task["tour_steps_per_room"] = steps_per_room
@@ -208,6 +209,8 @@ def tour_task(steps_per_room: int, errand_start: str = "continue", layout: str =
         task["layout"] = layout
     if doors is not None:
         task["doors"] = doors
+    if local_light:
+        task["local_light"] = True
     return task
 
 
@@ -226,6 +229,8 @@ def add_task_arguments(p: argparse.ArgumentParser, many_tracks: bool = False) ->
     p.add_argument("--doors", type=float, metavar="F", help="buildings with doors: F of the "
                    "doorways with an automatic door, every doorway framed and 0.8-1.0 m wide "
                    "(envs.world.doors; default: open 1 m doorways)")
+    p.add_argument("--local-light", action="store_true", help="buildings with windows and "
+                   "lamps, the light baked where it falls (envs.world.local_light)")
     if many_tracks:
         p.add_argument("--track", dest="tracks", nargs="+", choices=list(TRACKS),
                        metavar="TRACK", help="named tracks' errands (envs.commands.suite): "
@@ -247,7 +252,8 @@ def task_from_args(args: argparse.Namespace, track: str | None = None) -> dict[s
     """
     if args.doors is not None and not 0 <= args.doors <= 1:
         raise ValueError(f"--doors must be a fraction in [0, 1], got {args.doors}")
-    task = tour_task(args.tour_steps_per_room, args.errand_start, args.layout, args.doors)
+    task = tour_task(args.tour_steps_per_room, args.errand_start, args.layout, args.doors,
+                     args.local_light)
     track = track or getattr(args, "track", None)
     if track:
         for key, value in track_task(track).items():
@@ -261,7 +267,7 @@ def task_from_args(args: argparse.Namespace, track: str | None = None) -> dict[s
 
 
 #: the guided tour's arguments a track may set: tracks that agree on them share one tour
-TOUR_KEYS = frozenset({"layout", "tour_steps_per_room", "doors"})
+TOUR_KEYS = frozenset({"layout", "tour_steps_per_room", "doors", "local_light"})
 
 
 def track_jobs(scene_seeds: list[int], recognizers: list[str], tasks: dict[str, dict[str, Any]],

@@ -104,9 +104,9 @@ def _stepper(env: gym.Env, seed: int = 0) -> Callable[[], None]:
 
 
 def size_timings(width: int, height: int, steps: int, rounds: int = 5, n_rooms: int = 4,
-                 scene_seed: int = 0) -> dict[str, np.ndarray]:
+                 scene_seed: int = 0, **world: Any) -> dict[str, np.ndarray]:
     """Seconds per call (rows: rounds; columns: wall, CPU) of the floor, the physics alone and
-    ``env.step`` at one panorama size.
+    ``env.step`` at one panorama size, in a building with ``world``'s options.
 
     The floor is a bare render and read-back of ``width`` x ``height`` pixels of a trivial
     textured scene; the physics is ``env.step`` with ``panorama=False``.
@@ -114,7 +114,7 @@ def size_timings(width: int, height: int, steps: int, rounds: int = 5, n_rooms: 
     model, data = _floor_scene(width, height)
     kwargs: dict[str, Any] = {"panorama_width": width, "panorama_height": height,
                               "n_rooms": n_rooms, "scene_seed": scene_seed,
-                              "max_episode_steps": None}
+                              "max_episode_steps": None, **world}
     env = gym.make("PlaceNav-v0", **kwargs)
     blind = gym.make("PlaceNav-v0", **kwargs, panorama=False)
     with mujoco.Renderer(model, height, width) as renderer:
@@ -157,7 +157,11 @@ def vector_speedups(width: int, height: int, steps: int, workers: int = 2, round
 
 #: (width, height, rooms) of the rows: the two sizes of the issue in the default world, and a
 #: building three times as large, where culling matters most
-ROWS = ((512, 128, 4), (256, 64, 4), (512, 128, 12))
+#: (width, height, rooms, world options): the last two, windows and lamps by day and by night
+#: (:mod:`envs.world.local_light`), say what baked light costs beside the first
+ROWS: tuple[tuple[int, int, int, dict[str, Any]], ...] = (
+    (512, 128, 4, {}), (256, 64, 4, {}), (512, 128, 12, {}),
+    (512, 128, 4, {"local_light": True}), (512, 128, 4, {"local_light": True, "lighting": "night"}))
 
 
 def main(argv: list[str] | None = None, prog: str = "placeclust speed"
@@ -178,20 +182,22 @@ def main(argv: list[str] | None = None, prog: str = "placeclust speed"
              "round by round. *Floor*: a bare `mujoco.Renderer` render and read-back of a "
              "trivial textured scene with the panorama's pixels; *physics*: `env.step` with "
              "`panorama=False`; *cores*: CPU time over wall time of `env.step` (all threads).",
-             "", "| panorama | rooms | floor ms | physics ms | env.step ms | env.step / floor "
-             "| cores | steps/s |", "|---|---|---|---|---|---|---|---|"]
+             "", "| panorama | rooms | world | floor ms | physics ms | env.step ms "
+             "| env.step / floor | cores | steps/s |", "|---|---|---|---|---|---|---|---|---|"]
     print("\n".join(lines), flush=True)
     cores = []
-    for w, h, rooms in ROWS:
-        t = size_timings(w, h, args.steps, args.rounds, n_rooms=rooms)
+    for w, h, rooms, world in ROWS:
+        t = size_timings(w, h, args.steps, args.rounds, n_rooms=rooms, **world)
         step = np.median(t["step"], axis=0)
         cores.append(step[1] / step[0])
-        lines.append(f"| {w}x{h} | {rooms} | {1e3 * np.median(t['floor'][:, 0]):.2f} | "
+        options = " ".join(f"{k}={v}" for k, v in world.items()) or "as built"
+        lines.append(f"| {w}x{h} | {rooms} | {options} | "
+                     f"{1e3 * np.median(t['floor'][:, 0]):.2f} | "
                      f"{1e3 * np.median(t['physics'][:, 0]):.2f} | {1e3 * step[0]:.2f} | "
                      f"**{ratio(t, 'step', 'floor'):.2f}x** | {cores[-1]:.2f} | "
                      f"{1 / step[0]:.0f} |")
         print(lines[-1], flush=True)
-    w, h, rooms = ROWS[0]
+    w, h, rooms, _ = ROWS[0]
     speedup = vector_speedups(w, h, args.steps, args.workers, n_rooms=rooms)
     lines += ["", f"`AsyncVectorEnv` with {args.workers} spawned workers at {w}x{h}, in env "
               f"steps per second over one process: **{speedup['single-threaded']:.2f}x** with "

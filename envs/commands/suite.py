@@ -15,9 +15,9 @@ Examples:
     >>> suite.scene_seeds("quick") == list(range(2000, 2000 + suite.n_quick))
     True
     >>> track_task("changed-night")
-    {'errand_condition': 'night'}
+    {'local_light': True, 'errand_condition': 'night'}
     >>> track_task("carried", errand_learn=False)
-    {'errand_start': 'carried', 'errand_learn': False}
+    {'local_light': True, 'errand_start': 'carried', 'errand_learn': False}
 """
 
 from __future__ import annotations
@@ -129,7 +129,13 @@ class Track:
     | ``changed-moved`` | furniture moved and removed, posters swapped | to serve after moves |
     | ``carried`` | each from where the robot is put down | to say where it is from a look |
     | ``corridor`` | identical offices along a corridor | to tell apart what only a camera can |
+    | ``corridor-carried`` | put down in one of the identical offices | to say which, from a look |
     | ``long`` | after a tour of 500 steps a room | to stay compact and right on a long tour |
+
+    The first five run in buildings with windows and lamps (``local_light``,
+    :mod:`envs.world.local_light`) and share one tour a building: by night the lamps light
+    other places than the sun did, and the windows go dark. ``corridor`` and ``long`` keep
+    v1's light: their tours are their own (``corridor-carried`` shares ``corridor``'s).
 
     Under a changed condition the map is the tour's; by default the recognizer keeps learning
     during the errands, as a deployed robot would; ``errand_learn=False``
@@ -142,14 +148,22 @@ class Track:
     tests: str
 
 
+#: the tracks that share a building's tour: windows and lamps, so that night is a real night
+LIT = {"local_light": True}
+
 TRACKS: Mapping[str, Track] = MappingProxyType({t.name: t for t in (
-    Track("continued", {}, "errands from where the last ended, in the tour's world"),
-    Track("changed-night", {"errand_condition": "night"}, "errands by night on a day map"),
-    Track("changed-cloudy", {"errand_condition": "cloudy"}, "errands under cloud on a day map"),
-    Track("changed-moved", {"errand_condition": "moved"},
+    Track("continued", LIT, "errands from where the last ended, in the tour's world"),
+    Track("changed-night", {**LIT, "errand_condition": "night"},
+          "errands by night, lamps on and windows dark, on a day map"),
+    Track("changed-cloudy", {**LIT, "errand_condition": "cloudy"},
+          "errands under cloud, no sun patches, on a day map"),
+    Track("changed-moved", {**LIT, "errand_condition": "moved"},
           "errands after furniture moved and posters were swapped"),
-    Track("carried", {"errand_start": "carried"}, "each errand from where the robot is put down"),
+    Track("carried", {**LIT, "errand_start": "carried"},
+          "each errand from where the robot is put down"),
     Track("corridor", {"layout": "corridor"}, "identical offices along a corridor"),
+    Track("corridor-carried", {"layout": "corridor", "errand_start": "carried"},
+          "each errand from where the robot is put down among identical offices"),
     Track("long", {"tour_steps_per_room": 500}, "errands after a tour of 500 steps a room"),
 )})
 

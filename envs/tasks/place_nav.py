@@ -81,6 +81,7 @@ class PlaceNavEnv(gym.Env, gym.utils.EzPickle):
     | ``n_cameras`` | 4 | cameras in the ring the panorama is stitched from |
     | ``extra_doors`` | 0.5 | fraction of non-tree walls with a door (loops); 0 gives a tree |
     | ``doors`` | ``None`` | ``None``: open doorways, 1 m wide; a fraction F in [0, 1]: every doorway framed and 0.8-1.0 m wide, F of them with an automatic door, shut until the robot is within 0.7 m (:mod:`envs.world.doors`) |
+    | ``local_light`` | ``False`` | windows on the outer walls and lamps over every room, the light baked where it falls: sun patches and window light by day, lamp pools and dark corners at night (:mod:`envs.world.local_light`) |
     | ``layout`` | ``"grid"`` | ``"grid"``: rooms of random sizes; ``"corridor"``: ``n_rooms - 1`` identical offices along a corridor, told apart only by how they look (:mod:`envs.world.corridor`) |
     | ``control_dt`` | 0.1 | seconds of simulation per step (physics runs at 5 ms) |
     | ``panorama`` | ``True`` | render the panorama into the observation |
@@ -108,7 +109,8 @@ class PlaceNavEnv(gym.Env, gym.utils.EzPickle):
       in about 13 pixels by one grey level.
       Since 0.13.0 ``camera_blur`` no longer wraps a forward image's left and right edges
       into each other (panoramas wrap, as before). Since 0.15.0 ``doors`` (off by default:
-      buildings without doors are drawn as before).
+      buildings without doors are drawn as before). Since 0.15.0 ``local_light`` (off by
+      default: buildings are lit as before).
     """
 
     metadata = {"render_modes": ["rgb_array"], "render_fps": 10}
@@ -138,6 +140,7 @@ class PlaceNavEnv(gym.Env, gym.utils.EzPickle):
         image_height: int = 240,
         image_fov: float = 70.0,
         doors: float | None = None,
+        local_light: bool = False,
     ) -> None:
         # pickle and deepcopy rebuild the env from these arguments (a MjSpec cannot be pickled),
         # as Gymnasium's MuJoCo envs do: the copy is a fresh env that needs a reset
@@ -168,6 +171,8 @@ class PlaceNavEnv(gym.Env, gym.utils.EzPickle):
             self._world_id += f" layout={layout}"
         if doors is not None:  # a building with doors is another building
             self._world_id += f" doors={doors}"
+        if local_light:  # windows and lamps: what the camera sees changes everywhere
+            self._world_id += " local_light"
         if camera != "panorama":  # a map of forward images is not a map of panoramas
             self._world_id += f" camera={camera} {image_width}x{image_height} fov={image_fov}"
         # vertical field of view of the forward camera from its horizontal one and its aspect
@@ -176,7 +181,7 @@ class PlaceNavEnv(gym.Env, gym.utils.EzPickle):
         self.geometry = PanoramaGeometry(panorama_width, panorama_height, n_cameras)
         self.scene: Scene = build_scene(scene_seed, n_rooms, lighting, n_cameras,
                                         self.geometry.fovy, extra_doors, self.changes, layout,
-                                        forward_fovy, doors)
+                                        forward_fovy, doors, local_light)
         self.model = self.scene.model
         self.data = mujoco.MjData(self.model)
         self.robot = Robot(self.model)

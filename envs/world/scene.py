@@ -27,6 +27,7 @@ from .conditions import LIGHTS, check_lighting
 from .corridor import corridor_floor_plan
 from .doors import add_doors, hang_doors
 from .layout import WALL_THICKNESS, FloorPlan, Room, Wall, generate_floor_plan
+from .local_light import light_locally
 from .panorama import camera_yaw
 from .robot import MAX_RANGE, N_RANGES, RADIUS
 
@@ -76,6 +77,7 @@ def build_scene(
     layout: str = "grid",
     forward_fovy: float = 55.4,
     doors: float | None = None,
+    local_light: bool = False,
 ) -> Scene:
     """Generate a floor plan from ``scene_seed`` and compile it into a MuJoCo model.
 
@@ -94,6 +96,8 @@ def build_scene(
         doors: ``None`` for open doorways of 1 m (the default: no door, no frame); else the
             fraction of doorways with a leaf, every doorway framed and of a width drawn from a
             range (:mod:`envs.world.doors`).
+        local_light: windows, lamps, sun patches and dark corners baked into the surfaces
+            (:mod:`envs.world.local_light`); off by default: the building is lit as before.
 
     Returns:
         The compiled :class:`Scene`.
@@ -124,6 +128,8 @@ def build_scene(
         add_doors(spec, plan, WALL_HEIGHT, rooms)
     swap_posters(spec, posters, changes)
     _add_furniture(spec, plan, rng, rooms)
+    if local_light:
+        light_locally(spec, plan, lighting, scene_seed, rooms)
     cams = _add_robot(spec, n_cameras, camera_fovy, forward_fovy)
     model = spec.compile()
     model.vis.map.znear = NEAR_CLIP / model.stat.extent

@@ -62,12 +62,15 @@ _TINY = {
                    "--tour-steps-per-room 25 --workers 1",
     "train.drift": "--n-scenes 1 --rooms 2 --errands 1",
 }
-#: the stand-ins for closed-loop results no section writes: two val buildings, with tracks
-#: (for files in a track's folder) or without
+#: the stand-ins for closed-loop results no section writes: two val buildings, with the tracks
+#: the files' folders name (``STAND_IN`` is followed by them) or without tracks
 STAND_IN = ("placeclust leaderboard --recognizers oracle none panorama panorama-orb "
-            "--agent relocalizer --track continued changed-night")
+            "--agent relocalizer --track")
 STAND_IN_PLAIN = "placeclust leaderboard --recognizers oracle none panorama panorama-orb"
-_TRACKS = ("continued", "changed-night")  # the stand-in's tracks
+#: the closed loop's tracks (``envs.commands.suite.TRACKS``, which this library cannot import;
+#: a test keeps the two alike)
+TRACK_NAMES = ("continued", "changed-night", "changed-cloudy", "changed-moved", "carried",
+               "corridor", "corridor-carried", "long")
 #: options that take no value (``--latency-sizes`` may take none, and is replaced anyway)
 _FLAGS = {"--quick", "--quiet", "--localize-only", "--force", "--alone"}
 
@@ -150,7 +153,7 @@ def _tour_name(path: str) -> str:
 
 def _track(path: str) -> str | None:
     parts = Path(path).parts
-    return parts[-2] if len(parts) > 2 and parts[-2] in _TRACKS else None
+    return parts[-2] if len(parts) > 2 and parts[-2] in TRACK_NAMES else None
 
 
 def stand_in(path: str, scratch: Path) -> str:
@@ -168,8 +171,9 @@ def stand_in_commands(paths: list[str], scratch: Path) -> list[list[str]]:
     """The runs that make the stand-ins of ``paths``."""
     runs = []
     results = [p for p in paths if not p.endswith("tour.npz")]
-    if any(_track(p) for p in results):
-        runs.append(probe_argv(shlex.split(STAND_IN), str(scratch / "stand-in")))
+    tracks = sorted({t for t in map(_track, results) if t}, key=TRACK_NAMES.index)
+    if tracks:
+        runs.append(probe_argv(shlex.split(STAND_IN) + tracks, str(scratch / "stand-in")))
     if any(not _track(p) for p in results):
         runs.append(probe_argv(shlex.split(STAND_IN_PLAIN), str(scratch / "stand-in-plain")))
     for name in sorted({_tour_name(p) for p in paths if p.endswith("tour.npz")}):

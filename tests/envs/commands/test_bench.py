@@ -279,6 +279,17 @@ def test_doors_are_a_world_option_of_the_matrix() -> None:
         replace(TINY, doors=2.0)
 
 
+def test_windows_and_lamps_are_a_world_option_of_the_matrix() -> None:
+    from envs.commands.cli import bench_plan, build_parser
+
+    lit = replace(TINY, local_light=True).runs()
+    assert {r.local_light for r in lit} == {True}
+    assert not {r.key for r in lit} & {r.key for r in TINY.runs()}  # other buildings
+    assert lit[0].tour != TINY.runs()[0].tour
+    args = build_parser().parse_args(["bench", "--quick", "--local-light", "--scenes", "0"])
+    assert bench_plan(args)[0].local_light
+
+
 def test_the_bench_runs_data_sets_and_compares_their_ranking(datasets, tmp_path) -> None:
     folder, vpr = datasets
     matrix = replace(TINY, algos=("online", "nested", "kmeans"), datasets=(folder, vpr),

@@ -173,8 +173,8 @@ def test_a_track_runs_its_errands_and_a_fixed_map_skips_who_cannot_localize(tmp_
     assert "Track `changed-night`" in captured.out and "HaarPlaces." in captured.out
     doc = json.loads((tmp_path / "results.json").read_text())
     assert doc["settings"]["track"] == "changed-night"
-    assert doc["settings"]["task"] == {"tour_steps_per_room": 30, "errand_condition": "night",
-                                       "errand_learn": False}
+    assert doc["settings"]["task"] == {"tour_steps_per_room": 30, "local_light": True,
+                                       "errand_condition": "night", "errand_learn": False}
     assert doc["settings"]["skipped"] == ["examples.tiny_recognizer:HaarPlaces"]
     assert [s["recognizer"] for s in doc["summaries"]] == ["oracle", "oracle-split:2"]
 
@@ -205,6 +205,7 @@ def test_tracks_of_one_tour_share_it_and_report_apart(tmp_path, capsys):
     docs = {t: json.loads((tmp_path / t / "results.json").read_text())
             for t in ("continued", "carried")}
     assert docs["carried"]["settings"]["task"] == {"tour_steps_per_room": 30,
+                                                   "local_light": True,
                                                    "errand_start": "carried"}
     maps = [[(r["scene_seed"], r["recognizer"], r["precision"], r["n_places"])
              for r in d["buildings"]] for d in docs.values()]
@@ -251,3 +252,26 @@ def test_a_run_says_at_once_what_it_will_run_and_what_it_kept(tmp_path, capsys):
     err = capsys.readouterr().err.splitlines()
     assert err[0].startswith(f"errands: 1 jobs to run, 1 kept from an earlier run in {tmp_path}")
     assert err[-1].startswith("errands: 1 jobs in")  # counted as jobs, not buildings
+
+
+def test_the_lit_tracks_share_one_tour_and_the_corridor_tracks_another():
+    from envs.commands.closed_loop import track_jobs
+    from envs.commands.suite import TRACKS, track_task
+
+    names = [n for n in TRACKS if n != "long"]
+    jobs = track_jobs([0, 1], ["oracle"], {n: track_task(n) for n in names}, n_rooms=3,
+                      agent="relocalizer", goals=1, seed=0)
+    assert len(jobs) == 4  # two tours a building
+    lit = [j for j in jobs if j.get("local_light")]
+    assert {tuple(sorted(j["tracks"])) for j in lit} == {(
+        "carried", "changed-cloudy", "changed-moved", "changed-night", "continued")}
+    corridor = [j for j in jobs if j.get("layout") == "corridor"]
+    assert {tuple(sorted(j["tracks"])) for j in corridor} == {("corridor", "corridor-carried")}
+    assert all(not j.get("local_light") for j in corridor)
+
+
+def test_the_freshness_probes_know_every_track():
+    from envs.commands.suite import TRACKS
+    from placeclust.freshness.probes import TRACK_NAMES
+
+    assert TRACK_NAMES == tuple(TRACKS)  # a new track's results get their stand-in

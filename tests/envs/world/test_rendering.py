@@ -34,7 +34,9 @@ def _poses(plan, rng, n_random=12):
 @pytest.mark.parametrize("world", [dict(scene_seed=1000, n_rooms=8),
                                    dict(scene_seed=2001, n_rooms=12),
                                    dict(scene_seed=5, n_rooms=6, layout="corridor"),
-                                   dict(scene_seed=1001, n_rooms=6, doors=0.5)])
+                                   dict(scene_seed=1001, n_rooms=6, doors=0.5),
+                                   dict(scene_seed=1002, n_rooms=6, local_light=True,
+                                        lighting="night")])
 def test_culling_draws_the_same_panorama_as_drawing_everything(make_env, world):
     env = make_env(**world).unwrapped
     env.reset(seed=0)
