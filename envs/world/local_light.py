@@ -264,17 +264,11 @@ def light_locally(spec: mujoco.MjSpec, plan: FloorPlan, lighting: str, scene_see
     return fixtures
 
 
-def _texture(spec: mujoco.MjSpec, name: str, img: np.ndarray) -> str:
-    """A 2D texture of ``img`` (H, W, 3) uint8, upright as :mod:`envs.world.scene`'s."""
-    tex = spec.add_texture(name=name, type=mujoco.mjtTexture.mjTEXTURE_2D,
-                           width=img.shape[1], height=img.shape[0], nchannel=3)
-    tex.data = np.ascontiguousarray(img[::-1]).tobytes()
-    return name
-
-
 def _stretched_material(spec: mujoco.MjSpec, name: str, img: np.ndarray,
                         emission: float = 0.0) -> str:
     """A material showing ``img`` once across a plane, as a poster's."""
+    from .scene import _texture  # the scene's own texture maker; it imports this module
+
     mat = spec.add_material(name=name, texrepeat=[1, 1], texuniform=False, emission=emission)
     mat.textures[mujoco.mjtTextureRole.mjTEXROLE_RGB] = _texture(spec, f"{name}_tex", img)
     mat.specular, mat.shininess = 0.05, 0.1
