@@ -40,6 +40,7 @@ from dataclasses import dataclass
 import mujoco
 import numpy as np
 
+from . import textures
 from .conditions import LIGHTS
 from .layout import WALL_THICKNESS, FloorPlan, Room
 
@@ -267,10 +268,9 @@ def light_locally(spec: mujoco.MjSpec, plan: FloorPlan, lighting: str, scene_see
 def _stretched_material(spec: mujoco.MjSpec, name: str, img: np.ndarray,
                         emission: float = 0.0) -> str:
     """A material showing ``img`` once across a plane, as a poster's."""
-    from .scene import _texture  # the scene's own texture maker; it imports this module
-
     mat = spec.add_material(name=name, texrepeat=[1, 1], texuniform=False, emission=emission)
-    mat.textures[mujoco.mjtTextureRole.mjTEXROLE_RGB] = _texture(spec, f"{name}_tex", img)
+    texture = textures.add_texture(spec, f"{name}_tex", img)
+    mat.textures[mujoco.mjtTextureRole.mjTEXROLE_RGB] = texture
     mat.specular, mat.shininess = 0.05, 0.1
     return name
 

@@ -30,6 +30,7 @@ from .layout import WALL_THICKNESS, FloorPlan, Room, Wall, generate_floor_plan
 from .local_light import light_locally
 from .panorama import camera_yaw
 from .robot import MAX_RANGE, N_RANGES, RADIUS
+from .textures import add_texture
 
 WALL_HEIGHT = 2.2
 # Geom groups (MuJoCo's ``geom_group``): every geom made here is in one of these, and the
@@ -160,14 +161,6 @@ def _setup_visual(spec: mujoco.MjSpec, plan: FloorPlan, lighting: str) -> None:
 
 
 
-def _texture(spec: mujoco.MjSpec, name: str, img: np.ndarray) -> str:
-    tex = spec.add_texture(name=name, type=mujoco.mjtTexture.mjTEXTURE_2D,
-                           width=img.shape[1], height=img.shape[0], nchannel=3)
-    # MuJoCo stores 2D textures bottom row first relative to image convention: flip to upright.
-    tex.data = np.ascontiguousarray(img[::-1]).tobytes()
-    return name
-
-
 def _material(spec: mujoco.MjSpec, name: str, texture: str, repeat: tuple[float, float],
               uniform: bool) -> str:
     mat = spec.add_material(name=name, texrepeat=list(repeat), texuniform=uniform)
@@ -185,7 +178,7 @@ def _add_floor(spec: mujoco.MjSpec, plan: FloorPlan, rng: np.random.Generator,
         pos=[(x0 + x1) / 2, (y0 + y1) / 2, 0], rgba=[0.2, 0.2, 0.2, 1],
     )
     for room in plan.rooms:
-        tex = _texture(spec, f"floor_tex{room.id}", textures.floor_texture(room.kind, rng))
+        tex = add_texture(spec, f"floor_tex{room.id}", textures.floor_texture(room.kind, rng))
         mat = _material(spec, f"floor_mat{room.id}", tex, (0.5, 0.5), True)
         cx, cy = room.center
         spec.worldbody.add_geom(
@@ -213,7 +206,7 @@ def _add_walls(spec: mujoco.MjSpec, plan: FloorPlan, rng: np.random.Generator,
     grey = spec.add_material(name="wall_core", rgba=[0.55, 0.55, 0.55, 1]).name
     wall_mats = {}
     for room in plan.rooms:
-        tex = _texture(spec, f"wall_tex{room.id}", textures.wall_texture(room.kind, rng))
+        tex = add_texture(spec, f"wall_tex{room.id}", textures.wall_texture(room.kind, rng))
         wall_mats[room.id] = _material(spec, f"wall_mat{room.id}", tex, (0.5, 0.5), True)
     half_t = WALL_THICKNESS / 2
     for i, w in enumerate(plan.walls):
@@ -282,7 +275,7 @@ def _line_wall(spec: mujoco.MjSpec, room: Room, w: Wall, side: int, wall_index: 
         if slot < width + 0.2:
             break
         t = -w.length / 2 + slot * k + float(rng.uniform(width / 2 + 0.1, slot - width / 2 - 0.1))
-        tex = _texture(spec, f"poster_tex{wall_index}_{side}_{k}", textures.poster_texture(rng))
+        tex = add_texture(spec, f"poster_tex{wall_index}_{side}_{k}", textures.poster_texture(rng))
         mat = _material(spec, f"poster_mat{wall_index}_{side}_{k}", tex, (1, 1), False)
         height = width * 1.25
         z = float(rng.uniform(0.9, 1.5))
@@ -300,7 +293,7 @@ def _line_wall(spec: mujoco.MjSpec, room: Room, w: Wall, side: int, wall_index: 
 def _add_furniture(spec: mujoco.MjSpec, plan: FloorPlan, rng: np.random.Generator,
                    rooms: dict[str, tuple[int, ...]]) -> None:
     for room in plan.rooms:
-        tex = _texture(spec, f"furniture_tex{room.id}", textures.furniture_texture(rng))
+        tex = add_texture(spec, f"furniture_tex{room.id}", textures.furniture_texture(rng))
         mat = _material(spec, f"furniture_mat{room.id}", tex, (1, 1), True)
         for i, f in enumerate(fi for fi in plan.furniture if fi.room == room.id):
             spec.worldbody.add_geom(

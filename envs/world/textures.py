@@ -15,6 +15,7 @@ from functools import cache
 from pathlib import Path
 
 import cv2
+import mujoco
 import numpy as np
 
 # In a clone (and an editable install) the assets are the repository's top-level folder; a wheel
@@ -222,3 +223,12 @@ def furniture_texture(rng: np.random.Generator) -> np.ndarray:
     img = _planks(base, rng) if rng.random() < 0.5 else _plaster(base, rng)
     _marks(img, rng, 30, base)
     return _finish(img, rng, grain=4.0)
+
+
+def add_texture(spec: mujoco.MjSpec, name: str, img: np.ndarray) -> str:
+    """Add ``img`` (H, W, 3 uint8, row 0 at the top) to ``spec`` as a 2D texture named ``name``."""
+    tex = spec.add_texture(name=name, type=mujoco.mjtTexture.mjTEXTURE_2D,
+                           width=img.shape[1], height=img.shape[0], nchannel=3)
+    # MuJoCo stores 2D textures bottom row first relative to image convention: flip to upright.
+    tex.data = np.ascontiguousarray(img[::-1]).tobytes()
+    return name
