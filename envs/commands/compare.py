@@ -54,7 +54,15 @@ from placeclust.stats import (
     suite_score,
 )
 
-from .results import groups, load_results, policy_name, seed_span, slug
+from .results import (
+    calibration,
+    groups,
+    load_results,
+    paired_rows,
+    policy_name,
+    seed_span,
+    slug,
+)
 
 #: settings that say who acted, not what was measured: results differing in them compare
 AGENT_KEYS = ("recognizers", "agent", "policy")
@@ -90,18 +98,6 @@ def differences(a: dict[str, Any], b: dict[str, Any]) -> list[str]:
         if sa.get(key) != sb.get(key):
             found.append(f"settings {key}: {sa.get(key)} against {sb.get(key)}")
     return found
-
-
-def paired_rows(a: dict[str, Any], b: dict[str, Any], name_a: str, name_b: str
-                ) -> tuple[list[dict[str, Any]], list[dict[str, Any]]]:
-    """The two recognizers' rows on the buildings both ran, in the same order."""
-    ra = {r["scene_seed"]: r for r in a["buildings"] if r["recognizer"] == name_a}
-    rb = {r["scene_seed"]: r for r in b["buildings"] if r["recognizer"] == name_b}
-    shared = sorted(set(ra) & set(rb))
-    if len(shared) < 2:
-        raise ValueError(f"{name_a} and {name_b} share {len(shared)} buildings; a paired "
-                         "interval needs at least 2")
-    return [ra[s] for s in shared], [rb[s] for s in shared]
 
 
 def table(rows_a: list[dict[str, Any]], rows_b: list[dict[str, Any]], name_a: str,
@@ -343,6 +339,9 @@ def score_main(argv: list[str] | None = None, prog: str = "placeclust score") ->
     p.add_argument("--docs", metavar="FILE", help="also write the tables into FILE's section "
                    "score-<tracks> (docs/benchmarks.md)")
     p.add_argument("--section", help="the section's name instead of score-<tracks>")
+    p.add_argument("--calibration", type=Path, metavar="PNG", help="also each calibration "
+                   "recognizer's difference from the ceiling and each track's resolution, and "
+                   "their curves of success against the injected error drawn into PNG")
     argv = sys.argv[1:] if argv is None else list(argv)
     args = p.parse_args(argv)
     try:
@@ -350,6 +349,8 @@ def score_main(argv: list[str] | None = None, prog: str = "placeclust score") ->
         text, _ = score_table(docs, args.floor, args.ceiling, args.aggregate)
         compared = [pair_table(docs, a, b, args.floor, args.ceiling, args.aggregate)[0]
                     for a, b in args.pair]
+        if args.calibration:
+            compared.append(_calibrate(docs, args.ceiling, args.calibration))
     except ValueError as e:
         print(f"error: {e}", file=sys.stderr)
         return 2
@@ -365,6 +366,19 @@ def score_main(argv: list[str] | None = None, prog: str = "placeclust score") ->
         write_section(args.docs, args.section or "score-" + "-".join(slug(t) for t in docs),
                       body, shlex.join([*prog.split(), *argv]))
     return 0
+
+
+
+def _calibrate(docs: dict[str, dict[str, Any]], ceiling: str, path: Path) -> str:
+    """:func:`calibration`'s markdown, its curves drawn into ``path``."""
+    from .figures import calibration_curves  # matplotlib only when a figure is asked for
+
+    text, points = calibration(docs, ceiling)
+    if not points:
+        raise ValueError(f"no calibration recognizer (oracle-KIND:VALUE) in {list(docs)}")
+    calibration_curves(points, {t: interval(groups(recognizer_rows(d, ceiling), "success_rate"))
+                                for t, d in docs.items()}, path)
+    return text + f" Curves: `{path}`."
 
 
 if __name__ == "__main__":

@@ -1,7 +1,10 @@
 """Pictures for reports: floor plans with matplotlib (rooms and their names, walls, doors,
-furniture, a path), a tour, and the places a recognizer found in it."""
+furniture, a path), a tour, the places a recognizer found in it, and calibration curves."""
 
 from __future__ import annotations
+
+from pathlib import Path
+from typing import Any
 
 import cv2
 import imageio.v3 as iio
@@ -156,3 +159,40 @@ def save_tour_gif(tour: Tour, places: np.ndarray, path: str, every: int = 10,
                     cv2.FONT_HERSHEY_SIMPLEX, 0.42, (255, 255, 255), 1, cv2.LINE_AA)
         frames.append(np.concatenate([banner, img], axis=0))
     iio.imwrite(path, np.stack(frames), duration=100, loop=0)
+
+
+#: what each calibration family's value means, and the value that is no error at all
+_ERRORS = {"noise": ("frames given another room's place", 0.0),
+           "split": ("places per room", 1.0), "merge": ("probability a door's rooms merge", 0.0)}
+
+
+def calibration_curves(points: list[dict[str, Any]], ceilings: dict[str, Any],
+                       path: str | Path) -> None:
+    """Errand success against the injected error: a panel per kind of error
+    (:mod:`envs.tasks.oracles`), a line per track, each point with its 95% interval, starting
+    from the true rooms' success (``ceilings``, an ``Estimate`` a track) at no error.
+
+    ``points`` are :func:`envs.commands.compare.calibration`'s: ``track``, ``kind``, ``value``
+    and ``success`` (an ``Estimate``).
+    """
+    kinds = [k for k in _ERRORS if any(q["kind"] == k for q in points)]
+    fig, axes = plt.subplots(1, max(1, len(kinds)), figsize=(4 * max(1, len(kinds)), 3.4),
+                             squeeze=False, sharey=True)
+    for ax, kind in zip(axes[0], kinds):
+        label, none = _ERRORS[kind]
+        for track in dict.fromkeys(q["track"] for q in points):
+            est = [ceilings[track]] + [q["success"] for q in points
+                                       if q["track"] == track and q["kind"] == kind]
+            x = [none] + [q["value"] for q in points if q["track"] == track and q["kind"] == kind]
+            if len(x) < 2:
+                continue
+            ax.errorbar(x, [e.mean for e in est], yerr=[[e.mean - e.low for e in est],
+                                                        [e.high - e.mean for e in est]],
+                        marker="o", capsize=3, label=track)
+        ax.set(xlabel=label, title=f"oracle-{kind}", ylim=(-0.05, 1.05))
+        ax.grid(alpha=0.3)
+    axes[0][0].set_ylabel("errand success")
+    axes[0][-1].legend(fontsize=8)
+    fig.tight_layout()
+    fig.savefig(path, dpi=120)
+    plt.close(fig)

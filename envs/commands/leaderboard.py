@@ -1,6 +1,6 @@
 """The closed-loop leaderboard: recognizers ranked by errand success in buildings never seen.
 
-    placeclust leaderboard --suite placenav-v1 [--size full|quick|long] \\
+    placeclust leaderboard --suite placenav-v2 [--size full|quick] \\
         --out runs/leaderboard [--recognizers oracle panorama mypackage.module:Mine ...] \\
         [--preset NAME] [--param NAME=VALUE] [--agent planner] \\
         [--workers N] [--executor process|ray] [--docs docs/benchmarks.md]
@@ -129,30 +129,54 @@ def plot(summaries: list[dict[str, Any]], path: Path) -> None:
 
 
 def _settings(args: argparse.Namespace, p: argparse.ArgumentParser, argv: list[str]
-              ) -> tuple[list[int], dict[str | None, dict[str, Any]]]:
-    """The buildings, and the settings a run measures for each of its tracks (``None``: no
-    track): the suite's, or the options'."""
+              ) -> dict[str | None, dict[str, Any]]:
+    """The settings a run measures for each of its tracks (``None``: no track), its
+    buildings among them: the suite's, or the options'."""
     if args.suite is None:
         if args.size != "full":
             p.error("--size goes with --suite")
+        args.agent = args.agent or "planner"
         seeds = scope_seeds(args, p)
         try:
             tasks = {t: task_from_args(args, t) for t in (args.tracks or [None])}
         except ValueError as e:
             p.error(str(e))
-    else:
-        fixed = [o for o in ("--split", "--scene-seeds", "--n-scenes", "--rooms",
-                             "--goals-per-scene", "--seed", "--tour-steps-per-room",
-                             "--errand-start", "--layout", "--track", "--localize-only")
-                 if any(a == o or a.startswith(o + "=") for a in argv)]
-        if fixed:
-            p.error(f"the suite {args.suite} fixes {' '.join(fixed)}; leave them out, or "
-                    "leave out --suite (the results then belong to no suite)")
-        suite = get_suite(args.suite)
-        seeds, tasks = suite.scene_seeds(args.size), {None: suite.task(args.size)}
-        args.split, args.rooms = suite.split, suite.n_rooms
-        args.goals_per_scene, args.seed = suite.goals, suite.seed
-    return seeds, {t: run_settings(args, seeds, task, t) for t, task in tasks.items()}
+        return {t: run_settings(args, seeds, task, t) for t, task in tasks.items()}
+    suite = get_suite(args.suite)
+    if args.size not in suite.sizes:
+        p.error(f"{suite.name} runs at the sizes {', '.join(suite.sizes)}"
+                + ("; its long tours are the track 'long'" if suite.tracks else ""))
+    fixed = [o for o in ("--split", "--scene-seeds", "--n-scenes", "--rooms",
+                         "--goals-per-scene", "--seed", "--tour-steps-per-room",
+                         "--errand-start", "--layout", "--doors", "--local-light", "--track",
+                         "--localize-only")
+             if any(a == o or a.startswith(o + "=") for a in argv)]
+    if fixed:
+        p.error(f"the suite {args.suite} fixes {' '.join(fixed)}; leave them out, or "
+                "leave out --suite (the results then belong to no suite)")
+    args.split, args.rooms = suite.split, suite.n_rooms
+    args.goals_per_scene, args.seed = suite.goals, suite.seed
+    args.agent = args.agent or suite.agent
+    args.tracks = suite.track_names or None
+    return {t: run_settings(args, suite.scene_seeds(args.size, t), suite.task(args.size, t), t)
+            for t in (args.tracks or [None])}
+
+
+def suite_jobs(settings: dict[str | None, dict[str, Any]], recognizers: list[str],
+               **common: Any) -> list[dict[str, Any]]:
+    """The jobs of several tracks whose buildings differ (a suite's tracks, each sized on its
+    own): each building's tour serves every track that has that building
+    (:func:`~envs.commands.closed_loop.track_jobs`), so a smaller track costs no tours."""
+    serving: dict[int, list[str]] = {}
+    for track, st in settings.items():
+        for seed in st["scene_seeds"]:
+            serving.setdefault(seed, []).append(str(track))
+    groups: dict[tuple[str, ...], list[int]] = {}
+    for seed, tracks in serving.items():
+        groups.setdefault(tuple(tracks), []).append(seed)
+    return [job for tracks, seeds in groups.items()
+            for job in track_jobs(seeds, recognizers,
+                                  {t: settings[t]["task"] for t in tracks}, **common)]
 
 
 def main(argv: list[str] | None = None, prog: str = "placeclust leaderboard"
@@ -163,11 +187,12 @@ def main(argv: list[str] | None = None, prog: str = "placeclust leaderboard"
     p.add_argument("--suite", choices=sorted(SUITES), help="run a frozen suite: its buildings, "
                    "rooms, errands, tours and seed (envs.commands.suite)")
     p.add_argument("--size", choices=SIZES, default="full", help="the suite's full size, its "
-                   "quick check or its long-tour track (default full)")
+                   "quick check, or (placenav-v1) its long tours (default full)")
     add_scope_arguments(p, n_scenes=8, default_split="test")
     p.add_argument("--rooms", type=int, default=6)
     add_recognizer_arguments(p, many=True)
-    p.add_argument("--agent", choices=ERRAND_AGENTS, default="planner")
+    p.add_argument("--agent", choices=ERRAND_AGENTS, help="the errand agent (default: the "
+                   "suite's, relocalizer from placenav-v2 on; planner without a suite)")
     p.add_argument("--policy", type=Path, help="the ppo agent's policy (default: shipped)")
     p.add_argument("--goals-per-scene", type=int, default=5)
     add_task_arguments(p, many_tracks=True)
@@ -183,7 +208,7 @@ def main(argv: list[str] | None = None, prog: str = "placeclust leaderboard"
                    "leaderboard-<suite or split>[-<size>][-<agent>] (docs/benchmarks.md)")
     argv = sys.argv[1:] if argv is None else list(argv)
     args = p.parse_args(argv)
-    seeds, settings = _settings(args, p, argv)
+    settings = _settings(args, p, argv)
     localize = any(st["task"].get("errand_learn") is False for st in settings.values())
     try:
         check_agent(args.agent, args.policy)
@@ -199,13 +224,12 @@ def main(argv: list[str] | None = None, prog: str = "placeclust leaderboard"
         common = {"n_rooms": args.rooms, "agent": args.agent, "goals": args.goals_per_scene,
                   "seed": args.seed, "policy": args.policy, "params": params}
         if args.tracks and len(args.tracks) > 1:
-            jobs = track_jobs(seeds, args.recognizers,
-                              {t: st["task"] for t, st in settings.items() if t}, **common)
+            jobs = suite_jobs(settings, args.recognizers, **common)
             done = split_tracks(run_jobs(jobs, args.out, args.workers, args.executor))
             by_track: dict[str | None, list] = {t: done[t] for t in args.tracks}
         else:
             ((track, only),) = settings.items()
-            jobs = make_jobs(seeds, args.recognizers, **common, **only["task"])
+            jobs = make_jobs(only["scene_seeds"], args.recognizers, **common, **only["task"])
             by_track = {track: run_jobs(jobs, args.out, args.workers, args.executor)}
     except (ValueError, FileNotFoundError) as e:
         print(f"error: {e}", file=sys.stderr)
@@ -213,22 +237,25 @@ def main(argv: list[str] | None = None, prog: str = "placeclust leaderboard"
     several = len(by_track) > 1
     for track, rows in by_track.items():
         out = args.out / track if several and track else args.out
-        _report(args, prog, argv, seeds, rows, {**settings[track], "recognizers":
+        _report(args, prog, argv, rows, {**settings[track], "recognizers":
                                                 args.recognizers,
                                                 **({"skipped": skipped} if skipped else {})},
                 out, track)
     if several and {"none", "oracle"} <= set(args.recognizers):
-        print("\n" + score_table(load_tracks([args.out / str(t) / "results.json"
-                                               for t in by_track]), "none", "oracle",
-                                 "mean")[0])
+        try:
+            print("\n" + score_table(load_tracks([args.out / str(t) / "results.json"
+                                                   for t in by_track]), "none", "oracle",
+                                     "mean")[0])
+        except ValueError as e:  # the runs are kept: only the score cannot be formed
+            print(f"no suite score: {e}", file=sys.stderr)
     return 0
 
 
-def _report(args: argparse.Namespace, prog: str, argv: list[str], seeds: list[int],
-            rows: list[dict[str, Any]], settings: dict[str, Any], out: Path,
-            track: str | None) -> None:
+def _report(args: argparse.Namespace, prog: str, argv: list[str], rows: list[dict[str, Any]],
+            settings: dict[str, Any], out: Path, track: str | None) -> None:
     """One track's results file, table, plot and docs section."""
     suite = None if args.suite is None else get_suite(args.suite)
+    seeds = settings["scene_seeds"]
     doc = write_results(out / "results.json", rows, args.recognizers, settings,
                         provenance(suite, args.size))
     summaries = doc["summaries"]
@@ -248,7 +275,7 @@ def _report(args: argparse.Namespace, prog: str, argv: list[str], seeds: list[in
         name += "" if args.size == "full" else f"-{args.size}"
         name += f"-{track}" if track else ""
         name += "-localize" if args.localize_only else ""
-        name += "" if args.agent == "planner" else f"-{args.agent}"
+        name += "" if args.agent == (suite.agent if suite else "planner") else f"-{args.agent}"
         if args.agent == "ppo" and args.policy:  # two policies' boards keep their own sections
             name += "-" + slug(policy_name(str(args.policy)))
         write_section(args.docs, name, body, shlex.join([*prog.split(), *argv]))

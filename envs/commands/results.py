@@ -1,4 +1,5 @@
-"""Closed-loop results files: per-building rows, their summaries with intervals, provenance.
+"""Closed-loop results files: per-building rows, their summaries with intervals, provenance,
+and what the calibration recognizers in them say (:func:`calibration`).
 
 ``placeclust leaderboard`` (``OUT/results.json``) and ``placeclust errands --json`` write one
 format, which ``placeclust compare`` reads::
@@ -20,7 +21,9 @@ from pathlib import Path
 from typing import Any
 
 from placeclust.atomic import write_atomic
-from placeclust.stats import Estimate, buildings_for, interval
+from placeclust.stats import Estimate, buildings_for, interval, paired_difference
+
+from ..tasks.oracles import error_of
 
 FORMAT = "placeclust-results/1"
 #: per-errand figures (one value per errand) and per-tour ones (one per building)
@@ -121,3 +124,53 @@ def policy_name(policy: str | None) -> str:
         return "shipped"
     path = Path(policy)
     return path.parent.name if path.name in ("policy.zip", "best_model.zip") else path.stem
+
+
+def paired_rows(a: dict[str, Any], b: dict[str, Any], name_a: str, name_b: str
+                ) -> tuple[list[dict[str, Any]], list[dict[str, Any]]]:
+    """The two recognizers' rows on the buildings both ran, in the same order."""
+    ra = {r["scene_seed"]: r for r in a["buildings"] if r["recognizer"] == name_a}
+    rb = {r["scene_seed"]: r for r in b["buildings"] if r["recognizer"] == name_b}
+    shared = sorted(set(ra) & set(rb))
+    if len(shared) < 2:
+        raise ValueError(f"{name_a} and {name_b} share {len(shared)} buildings; a paired "
+                         "interval needs at least 2")
+    return [ra[s] for s in shared], [rb[s] for s in shared]
+
+
+def calibration(docs: dict[str, dict[str, Any]], ceiling: str = "oracle"
+                ) -> tuple[str, list[dict[str, Any]]]:
+    """The calibration recognizers on each track (:mod:`envs.tasks.oracles`): each one's
+    success and its paired difference from ``ceiling``, and each track's *resolution*: per kind
+    of error, the smallest one injected whose difference's interval excludes 0 on this sample.
+    Returns the markdown and the points (``track``, ``kind``, ``value``, ``success``,
+    ``diff``)."""
+    points: list[dict[str, Any]] = []
+    for track, doc in docs.items():
+        for name in sorted({s["recognizer"] for s in doc["summaries"]}):
+            error = error_of(name)
+            if error is not None:
+                rows, base = paired_rows(doc, doc, name, ceiling)
+                got, top = groups(rows, "success_rate"), groups(base, "success_rate")
+                points.append({"track": track, "kind": error[0], "value": error[1],
+                               "success": interval(got), "diff": paired_difference(got, top)})
+    points.sort(key=lambda q: (list(docs).index(q["track"]), q["kind"], q["value"]))
+    lines = [f"| track | recognizer | success | − {ceiling} [95% interval] |", "|---|---|---|---|"]
+    lines += [f"| {q['track']} | oracle-{q['kind']}:{q['value']:g} | {q['success'].text(2)} | "
+              f"{q['diff'].text(3)} |" for q in points]
+    found = [f"{track}: {resolution(points, track)}" for track in docs
+             if any(q["track"] == track for q in points)]
+    return ("\n".join(lines) + f"\n\nResolution, the smallest error whose difference from "
+            f"`{ceiling}` excludes 0 on this sample: " + "; ".join(found) + "."), points
+
+
+def resolution(points: list[dict[str, Any]], track: str) -> str:
+    """Per kind of error on ``track``, the smallest injected one whose difference excludes 0,
+    or the largest tried, said to be unresolved."""
+    parts = []
+    for kind in dict.fromkeys(q["kind"] for q in points if q["track"] == track):
+        tried = [q for q in points if q["track"] == track and q["kind"] == kind]
+        seen = [q["value"] for q in tried if q["diff"].excludes(0.0)]
+        parts.append(f"{kind} {min(seen):g}" if seen else
+                     f"{kind} none up to {max(q['value'] for q in tried):g}")
+    return ", ".join(parts)

@@ -14,6 +14,9 @@ Examples:
     ('test', 6, 5)
     >>> suite.scene_seeds("quick") == list(range(2000, 2000 + suite.n_quick))
     True
+    >>> v2 = SUITES["placenav-v2"]  # every track, each on its own buildings
+    >>> v2.agent, len(v2.scene_seeds("full", "long")), v2.scene_seeds("quick", "carried")
+    ('relocalizer', 4, [2000])
     >>> track_task("changed-night")
     {'local_light': True, 'errand_condition': 'night'}
     >>> track_task("carried", errand_learn=False)
@@ -60,6 +63,10 @@ class Suite:
         seed: the episode seed (the tour's route, the errands' goals).
         tour_steps_per_room, long_tour_steps_per_room: the tour's length per room.
         metrics: what its tables report, each a mean with its interval over buildings.
+        agent: the errand agent it is run with unless told another (``--agent``).
+        tracks: ``(track, buildings)`` pairs: the :data:`TRACKS` it runs, each on the first
+            ``buildings`` of ``split`` at full size and ``n_quick`` at the quick size (``long``
+            is then a track, not a size); none: one set of errands on ``n_buildings`` (v1).
     """
 
     name: str
@@ -74,16 +81,42 @@ class Suite:
     tour_steps_per_room: int
     long_tour_steps_per_room: int
     metrics: tuple[str, ...] = ("success_rate", "spl", "precision", "nmi", "places_per_room")
+    agent: str = "planner"
+    tracks: tuple[tuple[str, int], ...] = ()
 
-    def scene_seeds(self, size: str = "full") -> list[int]:
-        """The buildings of one of :data:`SIZES`."""
-        n = {"full": self.n_buildings, "quick": self.n_quick, "long": self.n_long}.get(size)
-        if n is None:
-            raise ValueError(f"unknown size {size!r}; choose one of {SIZES}")
+    @property
+    def sizes(self) -> tuple[str, ...]:
+        """The sizes it runs at: :data:`SIZES`, less ``long`` where that is a track."""
+        return ("full", "quick") if self.tracks else SIZES
+
+    @property
+    def track_names(self) -> list[str]:
+        """Its tracks, in order (empty for a suite of one set of errands)."""
+        return [name for name, _ in self.tracks]
+
+    def scene_seeds(self, size: str = "full", track: str | None = None) -> list[int]:
+        """The buildings of one of :attr:`sizes`: ``track``'s, or those of every track."""
+        if size not in self.sizes:
+            raise ValueError(f"unknown size {size!r} of {self.name}; choose one of {self.sizes}")
+        if track is not None and track not in self.track_names:
+            raise ValueError(f"{self.name} has no track {track!r}; its tracks: "
+                             f"{self.track_names or 'none'}")
+        if size == "quick":
+            n = self.n_quick
+        elif self.tracks:
+            n = dict(self.tracks)[track] if track else max(dict(self.tracks).values())
+        else:
+            n = self.n_long if size == "long" else self.n_buildings
         return list(SPLITS[self.split][:n])
 
-    def task(self, size: str = "full") -> dict[str, Any]:
-        """The guided tour's arguments beyond the building (``tour_steps_per_room``)."""
+    def task(self, size: str = "full", track: str | None = None) -> dict[str, Any]:
+        """The guided tour's arguments beyond the building: ``tour_steps_per_room``, and
+        ``track``'s own (:func:`track_task`), which a suite of tracks needs."""
+        if self.tracks:
+            if track not in self.track_names:
+                raise ValueError(f"{self.name} runs its tracks one by one: name one of "
+                                 f"{self.track_names}")
+            return {"tour_steps_per_room": self.tour_steps_per_room, **track_task(track)}
         steps = self.long_tour_steps_per_room if size == "long" else self.tour_steps_per_room
         return {"tour_steps_per_room": steps}
 
@@ -96,6 +129,18 @@ SUITES: Mapping[str, Suite] = MappingProxyType({
     "placenav-v1": Suite(name="placenav-v1", env_id="PlaceNav-GuidedTour-v1", split="test",
                          n_buildings=60, n_quick=4, n_long=4, n_rooms=6, goals=5, seed=0,
                          tour_steps_per_room=150, long_tour_steps_per_room=500),
+    # each track sized by its pilot on val within the 3 hours a full run may take on 2 cores
+    # (docs/design.md, "placenav-v2"): 12 buildings give PANORAMA and PANORAMA_ORB a
+    # success half-width near 0.05 on the lit tracks (11-19 needed) and resolve 5% aliasing
+    # and merges of 0.3 on corridor-carried; long tours cost 3x, so 4 as in v1
+    "placenav-v2": Suite(name="placenav-v2", env_id="PlaceNav-GuidedTour-v1", split="test",
+                         n_buildings=12, n_quick=1, n_long=4, n_rooms=6, goals=5, seed=0,
+                         tour_steps_per_room=150, long_tour_steps_per_room=500,
+                         agent="relocalizer",
+                         tracks=(("continued", 12), ("changed-night", 12),
+                                 ("changed-cloudy", 12), ("changed-moved", 12),
+                                 ("carried", 12), ("corridor", 12), ("corridor-carried", 12),
+                                 ("long", 4))),
 })
 
 

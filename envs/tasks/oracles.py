@@ -190,3 +190,12 @@ def parse_oracle(name: str) -> TrueRooms:
         return TrueRooms()
     return TrueRooms(noise=float(value)) if kind == "noise" else (
         TrueRooms(split=float(value)) if kind == "split" else TrueRooms(merge=float(value)))
+
+
+def error_of(name: str) -> tuple[str, float] | None:
+    """The kind and size of a calibration recognizer's error, ``("noise", 0.05)`` for
+    ``oracle-noise:0.05``; None for ``oracle`` and every other name."""
+    if name == "oracle" or not is_oracle_name(name):
+        return None
+    kind, value = name.removeprefix("oracle-").split(":")
+    return kind, float(value)

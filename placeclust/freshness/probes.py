@@ -63,9 +63,14 @@ _TINY = {
     "train.drift": "--n-scenes 1 --rooms 2 --errands 1",
 }
 #: the stand-ins for closed-loop results no section writes: two val buildings, with the tracks
-#: the files' folders name (``STAND_IN`` is followed by them) or without tracks
+#: the files' folders name (``STAND_IN`` is followed by them; a calibration recognizer among
+#: them for ``score --calibration``) or without tracks
 STAND_IN = ("placeclust leaderboard --recognizers oracle none panorama panorama-orb "
-            "--agent relocalizer --track")
+            "oracle-noise:0.05 --agent relocalizer --track")
+#: three rooms and errands a building, so that ``none`` falls below ``oracle`` on every track and
+#: ``placeclust score`` can normalize between them
+STAND_IN_SIZE = ("--split val --n-scenes 2 --rooms 3 --goals-per-scene 3 "
+                 "--tour-steps-per-room 25 --workers 1")
 STAND_IN_PLAIN = "placeclust leaderboard --recognizers oracle none panorama panorama-orb"
 #: the closed loop's tracks (``envs.commands.suite.TRACKS``, which this library cannot import;
 #: a test keeps the two alike)
@@ -94,14 +99,15 @@ def subcommand(argv: list[str]) -> str:
     return argv[2] if argv[:2] == ["python", "-m"] else argv[1]
 
 
-def probe_argv(argv: list[str], out: str | None = None) -> list[str]:
-    """A section's command line at its tiny size, writing under ``out`` (None: nowhere)."""
+def probe_argv(argv: list[str], out: str | None = None, size: str | None = None) -> list[str]:
+    """A section's command line at its tiny size (``size``: other options than the
+    subcommand's tiny ones), writing under ``out`` (None: nowhere)."""
     name = subcommand(argv)
     head = argv[:3] if name.startswith("train.") else argv[:2]
     kept = [(o, v) for o, v in _options(argv[len(head):]) if o not in _DROP and o not in _SIZE
             and not (name == "leaderboard" and o == "--size")]  # a suite's size, dropped
     tokens = [t for o, v in kept for t in ([o] if o else []) + v]
-    tiny = shlex.split(_TINY.get(name, ""))
+    tiny = shlex.split(_TINY.get(name, "") if size is None else size)
     if out is not None and name in ("bench", "leaderboard", "demo", "tour"):
         tiny += ["--out", out]
     return head + tokens + tiny
@@ -172,8 +178,15 @@ def stand_in_commands(paths: list[str], scratch: Path) -> list[list[str]]:
     runs = []
     results = [p for p in paths if not p.endswith("tour.npz")]
     tracks = sorted({t for t in map(_track, results) if t}, key=TRACK_NAMES.index)
+    if "long" in tracks:
+        # the long track is the plain errands after a longer tour: the same code at a tiny
+        # tour (its own 500 steps a room, traced, would take minutes)
+        tracks.remove("long")
+        runs.append(probe_argv(shlex.split(STAND_IN_PLAIN) + ["--agent", "relocalizer"],
+                               str(scratch / "stand-in" / "long"), STAND_IN_SIZE))
     if tracks:
-        runs.append(probe_argv(shlex.split(STAND_IN) + tracks, str(scratch / "stand-in")))
+        runs.append(probe_argv(shlex.split(STAND_IN) + tracks, str(scratch / "stand-in"),
+                               STAND_IN_SIZE))
     if any(not _track(p) for p in results):
         runs.append(probe_argv(shlex.split(STAND_IN_PLAIN), str(scratch / "stand-in-plain")))
     for name in sorted({_tour_name(p) for p in paths if p.endswith("tour.npz")}):

@@ -123,6 +123,11 @@ def test_a_command_that_reads_results_runs_what_wrote_them_or_a_stand_in(tmp_pat
                                              ("runs/other/changed-night/results.json", None)]
     assert probes.stand_in("runs/other/changed-night/results.json", tmp_path) == str(
         tmp_path / "stand-in" / "changed-night" / "results.json")
+    runs = probes.stand_in_commands(["runs/v2/long/results.json", "runs/v2/carried/results.json"],
+                                    tmp_path)  # long's own tours would take minutes traced
+    assert [r[-1] for r in runs] == [str(tmp_path / "stand-in" / "long"),
+                                     str(tmp_path / "stand-in")]
+    assert "--track" not in runs[0] and runs[1][runs[1].index("--track") + 1:][:1] == ["carried"]
     assert probes.stand_in("runs/suite/place/results.json", tmp_path) == str(
         tmp_path / "stand-in-plain" / "results.json")
     report = probes.substitute(["python", "-m", "train.report", "a=runs/x/a.json,runs/x/b.json",

@@ -204,3 +204,26 @@ def test_a_difference_whose_interval_straddles_zero_is_undecided(tmp_path, capsy
     low, high = (float(x) for x in line.split("|")[4].split("[")[1].rstrip("] ").split(","))
     assert low < 0 < high
     assert "cannot decide between a and b" in out and "read it as a pilot" not in out
+
+
+def test_calibration_gives_each_tracks_resolution_and_draws_its_curves(tmp_path, capsys):
+    one, zero = [[1, 1, 1, 1]] * 4, [[0, 0, 0, 0]] * 4
+    mixed = [[1, 1, 1, 1], [1, 0, 1, 1], [1, 1, 1, 1], [1, 1, 0, 1]]  # 2 of 16 lost: unsure
+    files = [_track_file(tmp_path, "carried", {
+        "none": zero, "oracle": one, "oracle-noise:0.05": mixed,
+        "oracle-noise:0.2": [[1, 0, 0, 0]] * 4, "oracle-split:2": one}),
+        _track_file(tmp_path, "continued", {"none": zero, "oracle": one,
+                                            "oracle-noise:0.05": one})]
+    figure = tmp_path / "curves.png"
+    assert compare.score_main([*map(str, files), "--calibration", str(figure)]) == 0
+    out = capsys.readouterr().out
+    assert "| carried | oracle-noise:0.2 | 0.25 [0.25, 0.25] | -0.750 [-0.750, -0.750] |" in out
+    # the smallest error told from the true rooms; a split that keeps every boundary is not
+    assert "carried: noise 0.2, split none up to 2; continued: noise none up to 0.05." in out
+    assert figure.stat().st_size > 10_000
+    assert compare.score_main([str(files[1]), "--floor", "none", "--calibration",
+                               str(figure)]) == 0  # a track with calibration rows alone
+    plain = _track_file(tmp_path / "p", "carried", {"none": zero, "oracle": one})
+    assert compare.score_main([str(plain), "--calibration", str(tmp_path / "x.png")]) == 2
+    assert "no calibration recognizer" in capsys.readouterr().err
+    assert not (tmp_path / "x.png").exists()

@@ -1,6 +1,7 @@
 """Frozen suites and the provenance every results file carries."""
 
 import dataclasses
+import json
 
 import pytest
 
@@ -14,13 +15,24 @@ def test_a_suite_reports_on_test_buildings_and_is_frozen():
         assert suite.split == "test"
         assert set(suite.scene_seeds()) <= set(SPLITS["test"])
         assert len(suite.scene_seeds("quick")) < len(suite.scene_seeds())
-        assert suite.task("long")["tour_steps_per_room"] >= 500
+        long = suite.task(track="long") if suite.tracks else suite.task("long")
+        assert long["tour_steps_per_room"] >= 500
         with pytest.raises(dataclasses.FrozenInstanceError):
             suite.goals = 1  # type: ignore[misc]
     with pytest.raises(ValueError, match="unknown suite 'placenav-v0'"):
         get_suite("placenav-v0")
     with pytest.raises(ValueError, match="unknown size"):
         SUITES["placenav-v1"].scene_seeds("huge")
+
+
+def test_placenav_v2_runs_every_track_with_the_relocalizer():
+    from envs.commands.suite import TRACKS
+
+    suite = get_suite("placenav-v2")
+    assert suite.track_names == list(TRACKS) and suite.agent == "relocalizer"
+    assert SUITES["placenav-v1"].agent == "planner" and not SUITES["placenav-v1"].tracks
+    for track in suite.track_names:  # the quick size is the full size's first building
+        assert suite.scene_seeds("quick", track) == suite.scene_seeds("full", track)[:1]
 
 
 def test_the_render_fingerprint_is_stable_and_recorded():
@@ -41,3 +53,69 @@ def test_a_suite_fixes_its_buildings_and_errands(capsys):
     with pytest.raises(SystemExit):
         leaderboard.main(["--size", "quick"])
     assert "--size goes with --suite" in capsys.readouterr().err
+
+
+def _tracked(**sizes: int):
+    """A suite of tracks, each sized on its own, like placenav-v2."""
+    from envs.commands.suite import Suite
+
+    return Suite(name="tracked-v0", env_id="PlaceNav-GuidedTour-v1", split="test",
+                 n_buildings=0, n_quick=1, n_long=0, n_rooms=3, goals=1, seed=0,
+                 tour_steps_per_room=30, long_tour_steps_per_room=500, agent="relocalizer",
+                 tracks=tuple(sizes.items()))
+
+
+def test_a_suite_of_tracks_sizes_each_track_on_its_own():
+    suite = _tracked(continued=3, carried=2, long=1)
+    test = list(SPLITS["test"])
+    assert suite.scene_seeds("full", "carried") == test[:2]
+    assert suite.scene_seeds() == test[:3]  # every track's buildings
+    assert suite.scene_seeds("quick", "continued") == test[:1]
+    assert suite.task(track="carried") == {"tour_steps_per_room": 30, "local_light": True,
+                                           "errand_start": "carried"}
+    assert suite.task(track="long")["tour_steps_per_room"] == 500
+    with pytest.raises(ValueError, match="its long tours|choose one of"):
+        suite.scene_seeds("long")
+    with pytest.raises(ValueError, match="no track 'corridor'"):
+        suite.scene_seeds("full", "corridor")
+    with pytest.raises(ValueError, match="runs its tracks one by one"):
+        suite.task()
+
+
+def test_a_suites_smaller_track_costs_no_tour_of_its_own(monkeypatch):
+    from envs.commands.suite import track_task
+
+    suite = _tracked(continued=3, carried=2, corridor=1)
+    settings = {t: {"scene_seeds": suite.scene_seeds("full", t), "task": suite.task(track=t)}
+                for t in suite.track_names}
+    jobs = leaderboard.suite_jobs(settings, ["oracle"], n_rooms=3, agent="relocalizer",
+                                  goals=1, seed=0)
+    test = list(SPLITS["test"])
+    served = sorted((j["scene_seed"], tuple(sorted(j["tracks"]))) for j in jobs)
+    assert served == sorted([(test[0], ("carried", "continued")), (test[0], ("corridor",)),
+                             (test[1], ("carried", "continued")), (test[2], ("continued",))])
+    assert track_task("corridor")["layout"] == "corridor"
+
+
+def test_a_suite_of_tracks_runs_them_all_with_its_agent(monkeypatch, tmp_path, capsys):
+    suite = _tracked(continued=1, carried=1)
+    monkeypatch.setattr(leaderboard, "get_suite", lambda name: suite)
+    monkeypatch.setattr(leaderboard, "SUITES", {"tracked-v0": suite})
+    with pytest.raises(SystemExit):
+        leaderboard.main(["--suite", "tracked-v0", "--size", "long"])
+    assert "runs at the sizes full, quick; its long tours are the track" in \
+        capsys.readouterr().err
+    with pytest.raises(SystemExit):
+        leaderboard.main(["--suite", "tracked-v0", "--local-light"])
+    assert "fixes --local-light" in capsys.readouterr().err
+    assert leaderboard.main(["--suite", "tracked-v0", "--size", "quick", "--recognizers",
+                             "oracle", "none", "--workers", "1", "--out", str(tmp_path)]) == 0
+    out, err = capsys.readouterr()
+    assert "| recognizer | continued | carried | suite score (mean) |" in out or \
+        "no suite score: track" in err  # one building may leave oracle and none level
+    for track in ("continued", "carried"):
+        doc = json.loads((tmp_path / track / "results.json").read_text())
+        assert doc["settings"]["agent"] == "relocalizer"  # the suite's, not the planner
+        assert doc["settings"]["track"] == track and doc["provenance"]["suite"] == "tracked-v0"
+        assert doc["settings"]["scene_seeds"] == suite.scene_seeds("quick", track)
+    assert len(list((tmp_path / "runs").glob("*.json"))) == 2  # one tour a recognizer

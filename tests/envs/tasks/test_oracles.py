@@ -97,3 +97,12 @@ def test_names_parse_and_name_back():
 def test_bad_calibration_names_say_what_is_wrong(name, match):
     with pytest.raises(ValueError, match=match):
         check_recognizer_name(name)
+
+
+def test_a_calibration_name_says_its_kind_and_size_of_error():
+    from envs.tasks.oracles import error_of
+
+    assert error_of("oracle-noise:0.05") == ("noise", 0.05)
+    assert error_of("oracle-split:2") == ("split", 2.0)
+    assert error_of("oracle") is None and error_of("panorama") is None
+    assert error_of("mypackage.module:Mine") is None
