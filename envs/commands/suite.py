@@ -132,7 +132,7 @@ SUITES: Mapping[str, Suite] = MappingProxyType({
     # each track sized by its pilot on val within the 3 hours a full run may take on 2 cores
     # (docs/design.md, "placenav-v2"): 12 buildings give PANORAMA and PANORAMA_ORB a
     # success half-width near 0.05 on the lit tracks (11-19 needed) and resolve 5% aliasing
-    # and merges of 0.3 on corridor-carried; long tours cost 3x, so 4 as in v1
+    # on every track calibrated (6 buildings did); long tours cost 3x, so 4 as in v1
     "placenav-v2": Suite(name="placenav-v2", env_id="PlaceNav-GuidedTour-v1", split="test",
                          n_buildings=12, n_quick=1, n_long=4, n_rooms=6, goals=5, seed=0,
                          tour_steps_per_room=150, long_tour_steps_per_room=500,
