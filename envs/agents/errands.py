@@ -60,8 +60,8 @@ def run_scene(scene_seed: int, n_rooms: int = 6, recognizer: str = "panorama",
         recognizer_params: the recognizer's constructor arguments.
         tracks: errands of several tracks after one tour: track name -> its errand arguments
             (``errand_start``, ``errand_condition``, ``errand_learn``). Each track's errands
-            start from the tour's state (``TourState``), the robot at rest where the tour
-            ended, with the same goals and carries as a tour of its own would give them.
+            start from the tour's state (``TourState``: the map, the simulator and the random
+            streams as the tour left them): the errands a tour of its own would give it.
         **task: more ``PlaceNav-GuidedTour-v1`` arguments (the tour's, with ``tracks``).
 
     Returns:

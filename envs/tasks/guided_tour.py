@@ -125,8 +125,9 @@ class GuidedTourEnv(NavTask, gym.utils.EzPickle):
     ``reset(options={"goals": [name, ...]})`` fixes the errands' rooms; a name the guide never
     said is a ``ValueError``. ``reset(options={"tour": state})`` skips the tour and starts from
     the :class:`~envs.tasks.records.TourState` another reset left (:meth:`tour_state`, of this
-    env or one of the same building and recognizer): the robot at rest where the tour ended,
-    the map as the tour made it, the episode's draws (goals, carries) as after that tour.
+    env or one of the same building and recognizer): the simulator as the tour left it, the
+    map as the tour made it, the episode's draws (goals, carries) as after that tour; its
+    errands are those the same reset with a tour of its own gives.
 
     ## Version History
     - v1 (placeclust 0.13.0): errands start at least ``min_errand_distance`` (1 m) of
@@ -201,6 +202,7 @@ class GuidedTourEnv(NavTask, gym.utils.EzPickle):
         self.errand_condition, self.errand_learn = errand_condition, errand_learn
         self._place = -1  # the raw place of the current frame
         self._tour: TourRecord | None = None  # the last tour, its end pose and last room
+        self._tour_state: TourState | None = None  # and all the errands go on from
         self._tour_end, self._tour_room = np.zeros(3), 0
         self.render_mode = render_mode
         self.n_errands, self.errand_steps = n_errands, errand_steps
@@ -252,13 +254,14 @@ class GuidedTourEnv(NavTask, gym.utils.EzPickle):
             for name in goals:
                 self.plan.room_by_name(name)  # a KeyError naming the rooms, before the tour
         self._use(self.tour_nav, learn=True)
-        tour_seed = int(self.np_random.integers(2**31))
+        tour_seed = int(self.np_random.integers(2**31))  # drawn on resume too: same goals
         if state is not None:
-            tour, obs, info = self._resume(state, tour_seed)
+            tour, obs, info = self._resume(state)
         else:
             if self.truth is not None:  # seeded by the tour: the episode's stream stays v1's
                 self._truth = self.truth.bind(self.plan, tour_seed)
             tour, obs, info = self._guided_tour(tour_seed)
+            self._tour_state = self._keep_tour(tour, obs, info)
         self._named = tour.heard_names()
         if goals is not None:
             unheard = [g for g in goals if g not in self._named]
@@ -306,27 +309,36 @@ class GuidedTourEnv(NavTask, gym.utils.EzPickle):
             self.errand_nav.close()
 
     def tour_state(self) -> TourState:
-        """What the last tour left (copies): ``reset(options={"tour": state})`` of this env,
-        or of another of the same building, runs its errands without driving the tour again."""
-        if self._tour is None:
+        """What the last tour left, as it stood when the tour ended (copies):
+        ``reset(options={"tour": state})`` of this env, or of another of the same building
+        and recognizer, runs the errands a tour of its own would have given it, without
+        driving the tour again."""
+        if self._tour_state is None:
             raise RuntimeError("no tour yet; call reset()")
-        return TourState(self._tour, copy.deepcopy(self.recognizer),
-                         copy.deepcopy(self._truth), self._tour_rooms.copy(),
-                         self._tour_end.copy(), self._tour_room)
+        return self._tour_state
 
-    def _resume(self, state: TourState, seed: int) -> tuple[TourRecord, dict, dict]:
-        """Start from ``state`` instead of a tour: its map, and the robot at rest where the tour
-        ended, seeing that frame (a recognizer's map takes it in, as any frame)."""
+    def _keep_tour(self, tour: TourRecord, obs: dict[str, Any], info: dict[str, Any]
+                   ) -> TourState:
+        """The tour's end, kept before any errand moves the robot or the map learns more."""
+        return TourState(tour, copy.deepcopy(self.recognizer),
+                         copy.deepcopy(self._truth), self._tour_rooms.copy(),
+                         self._tour_end.copy(), self._tour_room, self.nav.snapshot(),
+                         copy.deepcopy(obs), copy.deepcopy(info), self._place)
+
+    def _resume(self, state: TourState) -> tuple[TourRecord, dict, dict]:
+        """Start from ``state`` instead of a tour: its map, and the simulator as the tour left
+        it (the robot in motion, the random streams), seeing the tour's last frame."""
         if (self._place_ids is None) != (state.recognizer is None):
             raise ValueError("the tour state is of another kind of recognizer than this env's")
+        self.nav.restore(state.nav)  # a ValueError for another building, before any change
         if self._place_ids is not None:
             self._place_ids.recognizer = copy.deepcopy(state.recognizer)
         self._truth = copy.deepcopy(state.truth)
-        self._tour, self._tour_rooms = state.record, state.rooms
-        self._tour_end, self._tour_room = state.pose, state.room
-        self._room = state.room
-        obs, info = self._see(*self.nav.reset(seed=seed, options={"pose": state.pose}))
-        return state.record, obs, info
+        self._tour, self._tour_rooms = state.record, state.rooms.copy()
+        self._tour_end, self._tour_room = state.pose.copy(), state.room
+        self._room, self._place = state.room, state.place
+        self._tour_state = state
+        return state.record, copy.deepcopy(state.observation), copy.deepcopy(state.info)
 
     # -- the condition ---------------------------------------------------------------------
 

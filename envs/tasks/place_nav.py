@@ -2,7 +2,9 @@
 
 from __future__ import annotations
 
+import copy
 import math
+from dataclasses import dataclass
 from typing import Any
 
 import gymnasium as gym
@@ -23,6 +25,20 @@ _NO_SENSORS = int(mujoco.mjtDisableBit.mjDSBL_SENSOR)
 #: ``panorama``: the 360° ring (observation key ``panorama``); ``forward``: one perspective
 #: camera looking ahead, as seed 001's monocular camera (observation key ``image``)
 CAMERAS = ("panorama", "forward")
+
+
+@dataclass(frozen=True)
+class NavSnapshot:
+    """Everything a :class:`PlaceNavEnv` episode goes on from (:meth:`PlaceNavEnv.snapshot`):
+    the physics (pose, velocities, the wheels' commands, the doors), the random streams and
+    the last frame; ``world_id`` says which building it belongs to."""
+
+    world_id: str
+    data: mujoco.MjData
+    rng: np.random.Generator
+    camera_rng: np.random.Generator
+    visited: frozenset[int]
+    panorama: np.ndarray | None
 
 
 class PlaceNavEnv(gym.Env, gym.utils.EzPickle):
@@ -255,6 +271,28 @@ class PlaceNavEnv(gym.Env, gym.utils.EzPickle):
         info["rooms_visited"] = len(self._visited)
         return self._observation(), reward, False, False, info
 
+    def snapshot(self) -> NavSnapshot:
+        """A copy of the episode's state as it stands: :meth:`restore` on this env, or on
+        another of the same building, goes on from it as this one would have gone on."""
+        return NavSnapshot(self.world_id, copy.copy(self.data), copy.deepcopy(self.np_random),
+                           copy.deepcopy(self._camera_rng), frozenset(self._visited),
+                           None if self._panorama is None else self._panorama.copy())
+
+    def restore(self, snapshot: NavSnapshot) -> None:
+        """Go on from ``snapshot`` (:meth:`snapshot`), without drawing or rendering anything.
+
+        Raises:
+            ValueError: the snapshot is of another building (another ``world_id``).
+        """
+        if snapshot.world_id != self.world_id:
+            raise ValueError(f"a snapshot of {snapshot.world_id!r} cannot go on in "
+                             f"{self.world_id!r}")
+        mujoco.mj_copyData(self.data, self.model, snapshot.data)
+        self.np_random = copy.deepcopy(snapshot.rng)
+        self._camera_rng = copy.deepcopy(snapshot.camera_rng)
+        self._visited = set(snapshot.visited)
+        self._panorama = None if snapshot.panorama is None else snapshot.panorama.copy()
+
     def render(self) -> np.ndarray | None:
         """Top-down view of the building with the robot, above the current panorama."""
         if self.render_mode != "rgb_array":
@@ -339,4 +377,4 @@ class PlaceNavEnv(gym.Env, gym.utils.EzPickle):
         }
 
 
-__all__ = ["PlaceNavEnv", "MAX_SPEED", "MAX_TURN"]
+__all__ = ["PlaceNavEnv", "NavSnapshot", "MAX_SPEED", "MAX_TURN"]

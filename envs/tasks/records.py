@@ -49,7 +49,8 @@ class TourRecord:
 @dataclass(eq=False)
 class TourState:
     """What a guided tour leaves behind, for errands to start from without driving it again
-    (``reset(options={"tour": state})``): one tour serves every track of a building.
+    (``reset(options={"tour": state})``): one tour serves every track of a building, and each
+    track's errands are the ones a tour of its own would have given it.
 
     Attributes:
         record: the :class:`TourRecord`.
@@ -58,6 +59,11 @@ class TourState:
         rooms: (T,) the true room of each tour step, for scoring.
         pose: the robot's (x, y, heading) at the tour's end.
         room: the last room the robot was in.
+        nav: the simulator where the tour left it
+            (:class:`~envs.tasks.place_nav.NavSnapshot`: the robot in motion, the random
+            streams), so that the errands go on as after the tour itself.
+        observation, info: the tour's last frame, as the tour's world returned it.
+        place: the raw place of that frame.
     """
 
     record: TourRecord
@@ -66,6 +72,10 @@ class TourState:
     rooms: np.ndarray
     pose: np.ndarray
     room: int
+    nav: Any
+    observation: dict[str, Any]
+    info: dict[str, Any]
+    place: int
 
 
 @dataclass
