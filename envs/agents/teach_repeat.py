@@ -213,8 +213,9 @@ class TourPlanner:
         # farther within one place: the recognizer says they are one room, with no wall between
         same = {(i, j) for i, j in tree.query_pairs(SAME_PLACE)
                 if self.places[i] == self.places[j] >= 0}
-        for i, j in near | same:
-            self.roadmap.add_edge(i, j, weight=float(np.linalg.norm(self.path[i] - self.path[j])))
+        pairs = np.array(list(near | same), np.int64).reshape(-1, 2)  # the sets' order kept
+        length = np.linalg.norm(self.path[pairs[:, 0]] - self.path[pairs[:, 1]], axis=1)
+        self.roadmap.add_weighted_edges_from(zip(*pairs.T.tolist(), length.tolist()))
 
     def _add_hop(self, a: int, b: int, stretch: np.ndarray) -> None:
         """A hop a -> b driven through ``stretch``, indices of tour steps in driving order."""

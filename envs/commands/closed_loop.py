@@ -40,7 +40,7 @@ from placeclust.runner import preset_params, recognizer_class
 
 from ..agents.errands import ERRAND_AGENTS, POLICY, check_agent, run_scene
 from ..agents.learned import config_path
-from ..tasks.guided_tour import ERRAND_STARTS
+from ..tasks.errand_draws import ERRAND_STARTS
 from ..tasks.recognizers import (
     RECOGNIZERS,
     is_own,

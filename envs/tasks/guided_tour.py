@@ -25,7 +25,7 @@ from __future__ import annotations
 import copy
 import math
 import string
-from collections.abc import Mapping, Sequence
+from collections.abc import Mapping
 from typing import Any
 
 import gymnasium as gym
@@ -37,6 +37,7 @@ from placeclust.protocol import reads_images, resolve
 
 from ..world.changes import clear_pose
 from ..world.conditions import CONDITION_KEYS, CONDITIONS
+from .errand_draws import carry, check_errands, draw_goal
 from .goals import GoalRoom, NavTask
 from .oracles import BoundTrueRooms, TrueRooms
 from .place_id import PlaceIdWrapper, Recognizer
@@ -45,8 +46,6 @@ from .recognizers import make_recognizer
 from .records import Errand, TourRecord, TourState
 from .tour import guided_tour
 
-#: where an errand starts: where the last one ended, or carried to a random room
-ERRAND_STARTS = ("continue", "carried")
 NAME_CHARSET = frozenset(string.ascii_lowercase + string.digits + " -_")
 
 
@@ -59,21 +58,14 @@ class GuidedTourEnv(NavTask, gym.utils.EzPickle):
     what it observed comes back as ``info["tour"]`` (:class:`TourRecord`). Then each errand
     names a room the guide named, other than the one the robot is in and at least
     ``min_errand_distance`` of walking away; the errand ends when the robot enters that room or
-    after ``errand_steps`` steps, and the next one starts from there. The map keeps learning
-    through the errands.
-
-    An errand starts where the last one ended, at the door of the room just reached, so the
-    room behind that door would be an errand of one step across a threshold. A goal drawn
-    closer than ``min_errand_distance`` is drawn again among the rooms far enough (its
-    :class:`Errand` says ``redrawn``), as Habitat rejects episodes that start within the
-    success distance; where no named room is far enough the first draw stands.
+    after ``errand_steps`` steps, and the next one starts from there (a goal drawn closer is
+    drawn again: :mod:`envs.tasks.errand_draws`). The map keeps learning through the errands.
 
     With ``errand_start="carried"`` the robot is instead carried to each errand's start, as if
-    kidnapped: put down at a random pose in a random room other than the goal's, at least
-    ``min_errand_distance`` of walking from it, with the recognizer told to forget where it
-    was. Its odometry then says how it moved since, not where it is: only recognizing the place
-    tells it that, as in ``PlaceNav-ReachRoom-v0``. In a building whose rooms look alike to its
-    rangefinders (``layout="corridor"``) this is the task where place ids are needed.
+    kidnapped, with the recognizer told to forget where it was. Its odometry then says how it
+    moved since, not where it is: only recognizing the place tells it that, as in
+    ``PlaceNav-ReachRoom-v0``. In a building whose rooms look alike to its rangefinders
+    (``layout="corridor"``) this is the task where place ids are needed.
 
     ## Action Space
     ``PlaceNav-v0``'s: ``Box(-1, 1, (2,))``, normalised forward speed and turn rate.
@@ -159,18 +151,8 @@ class GuidedTourEnv(NavTask, gym.utils.EzPickle):
             observe_image=observe_image, render_mode=render_mode, n_rooms=n_rooms,
             errand_start=errand_start, errand_condition=errand_condition,
             errand_learn=errand_learn, **world)
-        if n_errands < 1 or errand_steps < 1 or tour_steps_per_room < 1 or name_after < 1:
-            raise ValueError("n_errands, errand_steps, tour_steps_per_room and name_after must "
-                             f"be positive, got {n_errands}, {errand_steps}, "
-                             f"{tour_steps_per_room}, {name_after}")
-        if not min_errand_distance >= 0:
-            raise ValueError(f"min_errand_distance must be 0 or more metres, got "
-                             f"{min_errand_distance}")
-        if errand_start not in ERRAND_STARTS:
-            raise ValueError(f"errand_start must be one of {ERRAND_STARTS}, got {errand_start!r}")
-        if errand_start == "carried" and n_rooms < 2:
-            raise ValueError("errand_start='carried' puts the robot down outside the goal room: "
-                             f"it needs at least 2 rooms, got n_rooms={n_rooms}")
+        check_errands(n_errands, errand_steps, tour_steps_per_room, name_after,
+                      min_errand_distance, errand_start, n_rooms)
         if recognizer_params and not isinstance(recognizer, str):
             raise ValueError("recognizer_params go with a package.module:Class recognizer, "
                              "not with a recognizer object")
@@ -404,7 +386,8 @@ class GuidedTourEnv(NavTask, gym.utils.EzPickle):
         elif carried:  # any named room: the start is drawn away from it
             goal, redrawn = self._named[int(self.np_random.integers(len(self._named)))], False
         else:
-            goal, redrawn = self._draw_goal(info["pose"], room)
+            goal, redrawn = draw_goal(self.np_random, self.goal_room, self._named, info["pose"],
+                                      room, self.min_errand_distance)
         goal_id = self.plan.room_by_name(goal).id
         if carried:
             obs, info = self._carry(goal_id)
@@ -414,32 +397,16 @@ class GuidedTourEnv(NavTask, gym.utils.EzPickle):
         return obs, info
 
     def _carry(self, goal: int) -> tuple[dict[str, Any], dict[str, Any]]:
-        """Put the robot down at a random pose of a random room other than ``goal``, at least
-        ``min_errand_distance`` of walking from it where a few draws find one."""
-        rooms = [r for r in self.plan.rooms if r.id != goal]
-        for _ in range(20):
-            room = rooms[int(self.np_random.integers(len(rooms)))]
-            obs, info = self.nav.reset(options={"room": room.name})
-            if self.goal_room.walk(goal, info["pose"], room.id) >= self.min_errand_distance:
-                break
+        """Carry the robot away from ``goal`` (:func:`~envs.tasks.errand_draws.carry`); the
+        recognizer and the true rooms learn that it was moved."""
+        obs, info = carry(self.nav, self.np_random, self.goal_room, goal,
+                          self.min_errand_distance)
         if self._place_ids is not None:  # the recognizer sees the new start, lost
             obs, info = self._place_ids.relocated(obs, info)
         if self._truth is not None:
             self._truth.reset_position()
         self._read_place(info)
         return obs, info
-
-    def _draw_goal(self, pose: Sequence[float], room: int) -> tuple[str, bool]:
-        """A named room other than ``room``; drawn again among those at least
-        ``min_errand_distance`` away if the first draw is closer. Returns (name, redrawn)."""
-        here = self.plan.rooms[room].name
-        others = [n for n in self._named if n != here] or self._named
-        goal = others[int(self.np_random.integers(len(others)))]
-        far = [n for n in others if self.goal_room.walk(self.plan.room_by_name(n).id, pose,
-                                                        room) >= self.min_errand_distance]
-        if goal in far or not far:  # the first draw stands: the same goals as v0 where far
-            return goal, False
-        return far[int(self.np_random.integers(len(far)))], True
 
     def _last_room(self, info: dict[str, Any]) -> int:
         """The room the robot is in or, in a doorway (no room), the one it is leaving."""

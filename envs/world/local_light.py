@@ -275,14 +275,19 @@ def _stretched_material(spec: mujoco.MjSpec, name: str, img: np.ndarray,
     return name
 
 
+def _rotation(geom: mujoco.MjsGeom) -> np.ndarray:
+    """The geom's orientation as a 3x3 matrix (its columns: its local axes in the world)."""
+    flat = np.zeros(9)
+    mujoco.mju_quat2Mat(flat, np.asarray(geom.quat, float))
+    return flat.reshape(3, 3)
+
+
 def _plane_texels(geom: mujoco.MjsGeom) -> tuple[np.ndarray, np.ndarray, tuple[int, int]]:
     """The world points of a plane's texels (N, 3), row 0 at its local +y edge, its normal,
     and the texture's (height, width)."""
     sx, sy = float(geom.size[0]), float(geom.size[1])
     w, h = max(2, round(2 * sx * TEXELS_PER_M)), max(2, round(2 * sy * TEXELS_PER_M))
-    flat = np.zeros(9)
-    mujoco.mju_quat2Mat(flat, np.asarray(geom.quat, float))
-    rot = flat.reshape(3, 3)
+    rot = _rotation(geom)
     u = -sx + (np.arange(w) + 0.5) * 2 * sx / w
     v = sy - (np.arange(h) + 0.5) * 2 * sy / h
     uu, vv = np.meshgrid(u, v)
@@ -316,9 +321,7 @@ def bake_surfaces(spec: mujoco.MjSpec, plan: FloorPlan, fixtures: Fixtures, ligh
             img = np.clip(_tiled(spec, geom.material, shape) * g, 0, 255).astype(np.uint8)
             geom.material = _stretched_material(spec, f"lit_{geom.name}", img)
         elif geom.name.startswith(("poster", "furniture")):
-            rot = np.zeros(9)
-            mujoco.mju_quat2Mat(rot, np.asarray(geom.quat, float))
-            normal = rot.reshape(3, 3)[:, 2]
+            normal = _rotation(geom)[:, 2]
             centre = np.asarray(geom.pos, float)[None]
             if geom.name.startswith("furniture"):  # lit from above: its top's light
                 normal, centre = np.array([0.0, 0.0, 1.0]), centre + [0, 0, geom.size[2]]
