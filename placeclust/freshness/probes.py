@@ -76,6 +76,12 @@ STAND_IN_PLAIN = "placeclust leaderboard --recognizers oracle none panorama pano
 #: a test keeps the two alike)
 TRACK_NAMES = ("continued", "changed-night", "changed-cloudy", "changed-moved", "carried",
                "corridor", "corridor-carried", "long")
+#: what a suite fixes beyond its buildings and size (``envs.commands.suite.SUITES``; a test
+#: keeps the two alike): its agent and its tracks, less ``long``, the same code as the others
+#: after a longer tour (which traced would take minutes)
+SUITE_OPTIONS = {"placenav-v1": "--agent planner",
+                 "placenav-v2": "--agent relocalizer --track " + " ".join(
+                     t for t in TRACK_NAMES if t != "long")}
 #: options that take no value (``--latency-sizes`` may take none, and is replaced anyway)
 _FLAGS = {"--quick", "--quiet", "--localize-only", "--force", "--alone"}
 
@@ -104,8 +110,13 @@ def probe_argv(argv: list[str], out: str | None = None, size: str | None = None)
     subcommand's tiny ones), writing under ``out`` (None: nowhere)."""
     name = subcommand(argv)
     head = argv[:3] if name.startswith("train.") else argv[:2]
-    kept = [(o, v) for o, v in _options(argv[len(head):]) if o not in _DROP and o not in _SIZE
+    options = _options(argv[len(head):])
+    kept = [(o, v) for o, v in options if o not in _DROP and o not in _SIZE
             and not (name == "leaderboard" and o == "--size")]  # a suite's size, dropped
+    suite = next((v[0] for o, v in options if o == "--suite" and v), None)
+    fixed = _options(shlex.split(SUITE_OPTIONS.get(suite or "", "")))
+    given = {o for o, _ in kept}
+    kept = [(o, v) for o, v in fixed if o not in given] + kept  # the section's own win
     tokens = [t for o, v in kept for t in ([o] if o else []) + v]
     tiny = shlex.split(_TINY.get(name, "") if size is None else size)
     if out is not None and name in ("bench", "leaderboard", "demo", "tour"):

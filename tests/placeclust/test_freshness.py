@@ -113,6 +113,12 @@ def test_a_probe_is_the_sections_own_command_at_a_tiny_size():
                   "--out runs/quick --docs docs/benchmarks.md") == (
         "placeclust leaderboard --agent ppo --split val --n-scenes 2 --rooms 2 "
         "--goals-per-scene 1 --tour-steps-per-room 25 --workers 1 --out /tmp/x")
+    # what a suite fixes beyond its size is kept: placenav-v2's agent and tracks
+    v2 = _probe("placeclust leaderboard --suite placenav-v2 --recognizers oracle none "
+                "--out runs/v2 --docs docs/benchmarks.md")
+    assert v2.startswith("placeclust leaderboard --agent relocalizer --track continued "
+                         "changed-night changed-cloudy changed-moved carried corridor "
+                         "corridor-carried --recognizers oracle none --split val")
 
 
 def test_a_command_that_reads_results_runs_what_wrote_them_or_a_stand_in(tmp_path):

@@ -270,8 +270,15 @@ def test_the_lit_tracks_share_one_tour_and_the_corridor_tracks_another():
     assert all(not j.get("local_light") for j in corridor)
 
 
-def test_the_freshness_probes_know_every_track():
-    from envs.commands.suite import TRACKS
-    from placeclust.freshness.probes import TRACK_NAMES
+def test_the_freshness_probes_know_every_track_and_suite():
+    from envs.commands.suite import SUITES, TRACKS
+    from placeclust.freshness.probes import SUITE_OPTIONS, TRACK_NAMES
 
     assert TRACK_NAMES == tuple(TRACKS)  # a new track's results get their stand-in
+    # a suite's section is traced with the agent and tracks the suite runs (long aside)
+    assert set(SUITE_OPTIONS) == set(SUITES)
+    for name, frozen in SUITES.items():
+        fixed = SUITE_OPTIONS[name].split()
+        assert fixed[fixed.index("--agent") + 1] == frozen.agent
+        tracks = fixed[fixed.index("--track") + 1:] if "--track" in fixed else []
+        assert tracks == [t for t in frozen.track_names if t != "long"]
