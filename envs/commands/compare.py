@@ -355,11 +355,11 @@ def score_main(argv: list[str] | None = None, prog: str = "placeclust score") ->
         print(f"error: {e}", file=sys.stderr)
         return 2
     n = sorted({len(d["settings"]["scene_seeds"]) for d in docs.values()})
-    body = (f"{len(docs)} tracks ({', '.join(docs)}), {'/'.join(map(str, n))} buildings a "
-            f"track. Each track's errand success with its 95% interval over buildings; the "
-            f"suite score is each track's success normalized between `{args.floor}` (0) and "
-            f"`{args.ceiling}` (1), combined by the {args.aggregate} over tracks, with a "
-            "bootstrap stratified by track.\n\n" + text
+    body = (f"{len(docs)} tracks ({', '.join(docs)}), {'/'.join(map(str, n))} "
+            f"building{'s' if n != [1] else ''} a track. Each track's errand success with its "
+            f"95% interval over buildings; the suite score is each track's success normalized "
+            f"between `{args.floor}` (0) and `{args.ceiling}` (1), combined by the "
+            f"{args.aggregate} over tracks, with a bootstrap stratified by track.\n\n" + text
             + "".join(f"\n\n{c}" for c in compared))
     print(body)
     if args.docs:

@@ -32,6 +32,7 @@ processes; ``--executor ray`` with Ray's ``RAY_ADDRESS`` set spreads them over t
 from __future__ import annotations
 
 import argparse
+import math
 import shlex
 import sys
 from pathlib import Path
@@ -88,7 +89,9 @@ def power_table(summaries: list[dict[str, Any]]) -> str:
              "building |", "|---|---|---|---|"]
     for s in summaries:
         needed = " / ".join(str(s.get(f"{k}_buildings_needed", "–")) for k in TARGET_HALF_WIDTH)
-        now = " / ".join(f"{(s[f'{k}_interval'][1] - s[f'{k}_interval'][0]) / 2:.3f}"
+        # one building has no spread: no half-width, rather than nan
+        now = " / ".join("–" if not all(map(math.isfinite, s[f"{k}_interval"])) else
+                         f"{(s[f'{k}_interval'][1] - s[f'{k}_interval'][0]) / 2:.3f}"
                          for k in TARGET_HALF_WIDTH)
         lines.append(f"| {s['recognizer']} | {needed} | {now} | "
                      f"{s['seconds'] / len(s['scenes']):.0f} |")
@@ -297,7 +300,8 @@ def _describe(args: argparse.Namespace, seeds: list[int], summaries: list[dict[s
     if args.localize_only:
         where_from += "The map is fixed after the tour (the recognizers only localize). "
     errands = sum(s["errands"] for s in summaries)
-    return (f"{suite}{where_from}{len(seeds)} buildings of {args.rooms} rooms ({where} {span}), "
+    buildings = "1 building" if len(seeds) == 1 else f"{len(seeds)} buildings"
+    return (f"{suite}{where_from}{buildings} of {args.rooms} rooms ({where} {span}), "
             f"{args.goals_per_scene} errands each after one guided tour, episode seed "
             f"{args.seed}, agent `{args.agent}`{_policy(args)}; {minutes:.0f} minutes of one "
             "core in all. "

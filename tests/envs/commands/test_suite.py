@@ -2,6 +2,7 @@
 
 import dataclasses
 import json
+import re
 
 import pytest
 
@@ -113,6 +114,8 @@ def test_a_suite_of_tracks_runs_them_all_with_its_agent(monkeypatch, tmp_path, c
     out, err = capsys.readouterr()
     assert "| recognizer | continued | carried | suite score (mean) |" in out or \
         "no suite score: track" in err  # one building may leave oracle and none level
+    # one building: said so, and no half-width rather than nan
+    assert "1 building of 3 rooms" in out and not re.search(r"\bnan\b", out)
     for track in ("continued", "carried"):
         doc = json.loads((tmp_path / track / "results.json").read_text())
         assert doc["settings"]["agent"] == "relocalizer"  # the suite's, not the planner
