@@ -63,6 +63,9 @@ real-images: $(VENV)/.installed
 		runs/stats/forward-2000-doors/tour.npz runs/stats/forward-1000/tour.npz \
 		runs/stats/forward-1000-doors/tour.npz runs/stats/panorama-1000/tour.npz $(DOCS) \
 		--section image-stats
+	$(VENV)/bin/placeclust stats --images $(CORRIDOR) --tour runs/stats/forward-2000/tour.npz \
+		runs/stats/forward-2000-doors/tour.npz runs/stats/forward-1000/tour.npz \
+		runs/stats/forward-1000-doors/tour.npz --max-features 100 $(DOCS) --section image-stats-100
 
 # Regenerates every table of docs/benchmarks.md, one command after the other (never two timings
 # at once): about 6 hours on a 2-core machine, the full closed-loop suite 106 minutes of it.
@@ -97,6 +100,8 @@ benchmarks: $(VENV)/.installed
 		--section seed001-test-250
 	$(VENV)/bin/placeclust seed001 --split test --rooms 6 --workers 2 --doors 1.0 $(DOCS) \
 		--section seed001-test-doors
+	$(VENV)/bin/placeclust seed001 --split test --rooms 6 --workers 2 --doors 1.0 \
+		--param max_features=100 $(DOCS) --section seed001-test-doors-100
 	$(VENV)/bin/placeclust bench $(SPLIT_TOURS:orb=) --split test --doors 1.0 \
 		--out runs/panorama-test-doors $(DOCS)
 	$(MAKE) real-images

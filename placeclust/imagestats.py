@@ -103,12 +103,12 @@ def _summary(prefix: str, counts: list[int]) -> dict[str, float]:
 
 def image_stats(frames: Sequence[np.ndarray] | np.ndarray,
                 labels: Sequence[int] | np.ndarray | None = None, features: str = "sift",
-                pairs: int = 200, seed: int = 0, ratio: float = 0.8, gap: int = GAP
-                ) -> dict[str, float]:
+                pairs: int = 200, seed: int = 0, ratio: float = 0.8, gap: int = GAP,
+                max_features: int = 500) -> dict[str, float]:
     """Keypoints per frame and feature matches between frames, as a flat dict.
 
     Features are those the recognizers use by default (``FeatureExtractor(features)``: the
-    500 strongest, after CLAHE); a match passes Lowe's ratio test
+    ``max_features`` strongest, 500, after CLAHE); a match passes Lowe's ratio test
     (:func:`placeclust.matching.ratio_matches`), counted from the later frame's features.
     Every frame is read and detected once, in order (``frames`` may be a lazy
     :class:`placeclust.datasets.ImageFolder`); the pairs are drawn first, and only the
@@ -122,6 +122,8 @@ def image_stats(frames: Sequence[np.ndarray] | np.ndarray,
         seed: draws the across- and within-place pairs.
         ratio: Lowe's ratio.
         gap: the fewest frames between the two views of a within-place pair.
+        max_features: the keypoints kept per frame, strongest first: fewer shows how alike
+            frames look at a sparser detector's density (a real frame's, say).
 
     Returns:
         ``frames``: frames in the sequence. ``keypoints_median``, ``keypoints_p10``,
@@ -133,8 +135,9 @@ def image_stats(frames: Sequence[np.ndarray] | np.ndarray,
         when no place spans ``gap`` frames).
 
     Raises:
-        ValueError: fewer than 2 frames, ``pairs`` below 1, unknown ``features``, labels not
-            one integer per frame or naming fewer than 2 places, or a malformed frame.
+        ValueError: fewer than 2 frames, ``pairs`` or ``max_features`` below 1, unknown
+            ``features``, labels not one integer per frame or naming fewer than 2 places, or a
+            malformed frame.
     """
     n = len(frames)
     lab = _check(n, labels, features, pairs)
@@ -148,7 +151,7 @@ def image_stats(frames: Sequence[np.ndarray] | np.ndarray,
             waiting[j].append((kind, i))
             uses[i] += 1
     starts = _spread(n, pairs)
-    extractor, binary = FeatureExtractor(features), features in BINARY
+    extractor, binary = FeatureExtractor(features, max_features), features in BINARY
     keypoints: list[int] = []
     matches: dict[str, list[int]] = {"next": [], "across": [], "within": []}
     held: dict[int, np.ndarray] = {}
@@ -234,6 +237,8 @@ def main(argv: list[str] | None = None, prog: str = "python -m placeclust.images
                    help="recorded tours (.npz with frames and room)")
     p.add_argument("--features", choices=FEATURES, default="sift")
     p.add_argument("--pairs", type=int, default=200, help="frame pairs per kind of pair")
+    p.add_argument("--max-features", type=int, default=500, metavar="N",
+                   help="keypoints kept per frame, strongest first (the recognizers' default)")
     p.add_argument("--seed", type=int, default=0, help="draws the across/within pairs")
     p.add_argument("--docs", metavar="FILE", help="also write the table into FILE's "
                    "'image-stats' section (docs/benchmarks.md), or --section's")
@@ -244,6 +249,8 @@ def main(argv: list[str] | None = None, prog: str = "python -m placeclust.images
         p.error("give at least one --images DIR or --tour FILE")
     if args.pairs < 1:
         p.error("--pairs must be at least 1")
+    if args.max_features < 1:
+        p.error("--max-features must be at least 1")
     rows: dict[str, dict] = {}
     try:  # open every input first, so a bad one fails before minutes of detection
         sources = [_open_folder(d) for d in args.images] + [_open_tour(f) for f in args.tour]
@@ -252,10 +259,11 @@ def main(argv: list[str] | None = None, prog: str = "python -m placeclust.images
             named = labels is not None and len(np.unique(labels[labels >= 0])) >= 2
             try:
                 rows[name] = image_stats(frames, labels if named else None, args.features,
-                                         args.pairs, args.seed)
+                                         args.pairs, args.seed, max_features=args.max_features)
             except ValueError as exc:
                 raise ValueError(f"{name}: {exc}") from exc
-        lines = [f"Matches ({args.features}, Lowe's ratio 0.8) per frame pair: at most "
+        lines = [f"Matches ({args.features}, the {args.max_features} strongest keypoints of a "
+                 f"frame, Lowe's ratio 0.8) per frame pair: at most "
                  f"{args.pairs} pairs of each kind; within a place: views {GAP}+ frames apart.",
                  "", stats_table(rows)]
         if args.docs:

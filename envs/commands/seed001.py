@@ -186,11 +186,20 @@ def why(facts: dict[str, np.ndarray], rooms: np.ndarray, share: np.ndarray, min_
 
 
 def summarize(rows: list[dict[str, Any]]) -> dict[str, Any]:
-    """Mean and worst building of each figure, and Table 2 summed over the buildings."""
-    def spread(values: list[float], worst=min) -> tuple[float, float]:
-        return float(np.mean(values)), float(worst(values))
+    """Each figure's mean over buildings with its 95% bootstrap interval over buildings
+    (:func:`placeclust.stats.interval`, every building weighing the same), its worst
+    building, and Table 2 summed over the buildings.
 
-    def figure(part: str, name: str, worst=min) -> tuple[float, float]:
+    Returns:
+        ``{figure: (mean, worst, low, high), ..., "buildings": n, "table2": {...}}``.
+    """
+    from placeclust.stats import interval
+
+    def spread(values: list[float], worst=min) -> tuple[float, float, float, float]:
+        est = interval([[v] for v in values])
+        return float(np.mean(values)), float(worst(values)), est.low, est.high
+
+    def figure(part: str, name: str, worst=min) -> tuple[float, float, float, float]:
         return spread([r[part][name] for r in rows], worst)
 
     kinds: dict[str, dict[str, int]] = {}
@@ -243,12 +252,15 @@ _ROWS = (  # (label, summary key, the paper's figure)
 
 def format_report(summary: dict[str, Any], scope: str) -> str:
     """The markdown tables: the figures beside the paper's, then Table 2 by room kind."""
-    lines = [f"{scope}; mean and worst building. The paper: COLD-Stockholm, right / left "
-             "camera; its Table 3 means include the Toilet row, which had no key frames.", "",
-             "| figure | here: mean | here: worst | paper |", "|---|---|---|---|"]
+    lines = [f"{scope}; mean over buildings with its 95% bootstrap interval over buildings, "
+             "and the worst building. The paper: COLD-Stockholm, right / left camera; its "
+             "Table 3 means include the Toilet row, which had no key frames.", "",
+             "| figure | here: mean [95%] | here: worst | paper |", "|---|---|---|---|"]
     for label, key, paper in _ROWS:
-        mean, worst = summary[key]
-        lines.append(f"| {label} | {mean:.3f} | {worst:.3f} | {paper} |")
+        mean, worst, low, high = summary[key]
+        spread = ("[1 building: no interval]" if summary["buildings"] < 2
+                  else f"[{low:.3f}, {high:.3f}]")
+        lines.append(f"| {label} | {mean:.3f} {spread} | {worst:.3f} | {paper} |")
     lines += ["", "Table 2, summed over the buildings:", "",
               "| room kind | images | key frames | locations | views | correct | rate |",
               "|---|---|---|---|---|---|---|"]

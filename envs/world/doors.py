@@ -44,8 +44,9 @@ from .layout import DOOR_WIDTH, Door, FloorPlan, Wall
 WIDTHS = (0.8, 1.0)
 #: a leaf opens when the robot's centre is this close to its doorway's centre, metres: late
 #: enough that the robot sees little of the next room before it is in it (chosen on `val`,
-#: docs/design.md "Doors"), early enough that it never touches a shut leaf
-OPEN_RADIUS = 0.7
+#: docs/design.md "Doors"), early enough that a robot heading through it (its centre 0.22 m
+#: from the leaf when touching) never touches a shut leaf
+OPEN_RADIUS = 0.5
 #: a doorway's height: the frame's head fills the wall above it
 HEAD = 2.0
 LEAF_THICKNESS = 0.04

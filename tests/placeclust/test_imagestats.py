@@ -62,6 +62,14 @@ def test_same_seed_same_figures_and_each_frame_read_once(tour):
     assert image_stats(frames, truth, features="orb", pairs=15, seed=3) == first
 
 
+def test_a_sparser_detector_keeps_fewer_keypoints_and_matches(tour):
+    frames, truth = tour
+    full = image_stats(frames, truth, features="sift", pairs=10)
+    sparse = image_stats(frames, truth, features="sift", pairs=10, max_features=30)
+    assert full["keypoints_median"] > 30 and sparse["keypoints_p90"] <= 30
+    assert sparse["next_median"] <= 30 and sparse["within_median"] < full["within_median"]
+
+
 def test_no_place_spanning_the_gap_gives_no_within_pairs(tour):
     frames, _ = tour
     stats = image_stats(frames[:6], [0, 0, 1, 1, 2, 2], features="orb", pairs=5)
@@ -75,6 +83,7 @@ def test_no_place_spanning_the_gap_gives_no_within_pairs(tour):
     (dict(labels=[0] * 6 + [-1] * 6), "1 place"),
     (dict(pairs=0), "pairs must be at least 1"),
     (dict(features="brisk"), "unknown features 'brisk'"),
+    (dict(max_features=0), "max_features"),
 ])
 def test_bad_input_says_what_is_wrong(tour, kwargs, reason):
     frames, truth = tour
@@ -116,9 +125,11 @@ def test_bad_input_gives_one_error_line_status_2_and_writes_nothing(tmp_path, ca
         err = capsys.readouterr().err
         assert err.startswith("error: ") and len(err.strip().splitlines()) == 1
     assert not docs.exists()
-    with pytest.raises(SystemExit) as exit_:  # neither --images nor --tour
-        main([])
-    assert exit_.value.code == 2
+    for argv in ([], ["--images", "x", "--max-features", "0"]):  # no input; a cap below 1
+        with pytest.raises(SystemExit) as exit_:
+            main(argv)
+        assert exit_.value.code == 2
+        assert "max-features" in capsys.readouterr().err or not argv
 
 
 def test_docs_writes_the_section_and_keeps_the_rest(tmp_path, tour, capsys):

@@ -34,10 +34,14 @@ def test_summary_reports_mean_and_worst_beside_the_paper(row):
     other = json.loads(json.dumps(row))
     other["map"]["matching_rate"] = 0.25
     summary = seed001.summarize([row, other])
-    mean, worst = summary["matching_rate"]
+    mean, worst, low, high = summary["matching_rate"]
     assert worst == 0.25 and mean == pytest.approx((row["map"]["matching_rate"] + 0.25) / 2)
+    assert low == pytest.approx(0.25) and high == pytest.approx(row["map"]["matching_rate"])
     report = seed001.format_report(summary, "test")
     assert "0.938 / 0.902" in report and "| matching rate" in report
+    assert f"{mean:.3f} [0.250, {high:.3f}]" in report
+    alone = seed001.format_report(seed001.summarize([row]), "test")
+    assert "[1 building: no interval]" in alone and "nan" not in alone
 
 
 @pytest.mark.parametrize("args, named", [

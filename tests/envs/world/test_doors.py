@@ -42,7 +42,7 @@ def test_a_door_is_shut_until_the_robot_comes_near():
     assert np.hypot(far[0] - door.x, far[1] - door.y) > OPEN_RADIUS
     nav.reset(options={"pose": (*far, 0.0)})
     assert _leaf_height(nav, 0) == pytest.approx(HEAD / 2)
-    near = door.approach(room, 0.5)
+    near = door.approach(room, OPEN_RADIUS / 2)
     nav.reset(options={"pose": (*near, 0.0)})
     assert _leaf_height(nav, 0) < 0  # out of the way: under the floor
     assert "doors=1.0" in nav.world_id
