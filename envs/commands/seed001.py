@@ -197,7 +197,7 @@ def summarize(rows: list[dict[str, Any]]) -> dict[str, Any]:
 
     def spread(values: list[float], worst=min) -> tuple[float, float, float, float]:
         est = interval([[v] for v in values])
-        return float(np.mean(values)), float(worst(values)), est.low, est.high
+        return est.mean, float(worst(values)), est.low, est.high
 
     def figure(part: str, name: str, worst=min) -> tuple[float, float, float, float]:
         return spread([r[part][name] for r in rows], worst)
@@ -252,15 +252,16 @@ _ROWS = (  # (label, summary key, the paper's figure)
 
 def format_report(summary: dict[str, Any], scope: str) -> str:
     """The markdown tables: the figures beside the paper's, then Table 2 by room kind."""
+    from placeclust.stats import Estimate
+
     lines = [f"{scope}; mean over buildings with its 95% bootstrap interval over buildings, "
              "and the worst building. The paper: COLD-Stockholm, right / left camera; its "
              "Table 3 means include the Toilet row, which had no key frames.", "",
              "| figure | here: mean [95%] | here: worst | paper |", "|---|---|---|---|"]
     for label, key, paper in _ROWS:
         mean, worst, low, high = summary[key]
-        spread = ("[1 building: no interval]" if summary["buildings"] < 2
-                  else f"[{low:.3f}, {high:.3f}]")
-        lines.append(f"| {label} | {mean:.3f} {spread} | {worst:.3f} | {paper} |")
+        here = Estimate(mean, low, high, summary["buildings"]).text(3)
+        lines.append(f"| {label} | {here} | {worst:.3f} | {paper} |")
     lines += ["", "Table 2, summed over the buildings:", "",
               "| room kind | images | key frames | locations | views | correct | rate |",
               "|---|---|---|---|---|---|---|"]
