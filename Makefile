@@ -7,7 +7,7 @@ PIP := $(PY) -m pip
 export MUJOCO_GL ?= egl
 
 .PHONY: demo test test-oldest docs-check real-images benchmarks bench bench-quick bench-long bench-env bench-latency train eval \
-	leaderboard train-errands train-tour train-reachroom agents-tour agents-suite seed001 \
+	leaderboard leaderboard-v1 train-errands train-tour train-reachroom agents-tour agents-suite seed001 \
 	clean
 
 $(VENV)/.installed: pyproject.toml
@@ -68,8 +68,10 @@ real-images: $(VENV)/.installed
 		runs/stats/forward-1000-doors/tour.npz --max-features 100 $(DOCS) --section image-stats-100
 
 # Regenerates every table of docs/benchmarks.md, one command after the other (never two timings
-# at once): about 6 hours on a 2-core machine, the full closed-loop suite 106 minutes of it.
+# at once): about 10 hours on a 2-core machine, the suites 106 minutes (v1) and 3.5 hours (v2).
 DOCS := --docs docs/benchmarks.md
+V2_TRACKS := $(foreach t,continued changed-night changed-cloudy changed-moved carried corridor \
+	corridor-carried long,runs/v2/$(t)/results.json)
 PANORAMA_TOURS := --algos online --features sift --conditions day --scenes 0 1 2 3 --rooms 4 8 \
 	--tour-seeds 0 1 --steps-per-room 150 --latency-sizes
 # PANORAMA with SIFT and ORB on 24 tours of a split's first 4 scenes: 4, 8, 12 rooms x 2 tour seeds
@@ -127,6 +129,12 @@ benchmarks: $(VENV)/.installed
 	for r in panorama panorama-orb; do $(VENV)/bin/placeclust compare runs/long/results.json \
 		runs/quick/results.json --a $$r --b $$r --force $(DOCS) --section compare-long-quick-$$r; done
 	$(MAKE) agents-suite
+	$(VENV)/bin/placeclust leaderboard --suite placenav-v2 --size quick --out runs/v2-quick
+	$(VENV)/bin/placeclust score $(subst runs/v2/,runs/v2-quick/,$(V2_TRACKS)) $(DOCS) \
+		--section score-placenav-v2-quick
+	$(VENV)/bin/placeclust leaderboard --suite placenav-v2 --out runs/v2 $(DOCS)
+	$(VENV)/bin/placeclust score $(V2_TRACKS) --pair panorama panorama-orb $(DOCS) \
+		--section score-placenav-v2
 	$(PY) -m placeclust.freshness record --now $$($(PY) -c \
 		"from placeclust import freshness; print(*freshness.sections())")
 	$(PY) -m placeclust.freshness check --write
@@ -165,9 +173,14 @@ train-reachroom: $(VENV)/.installed
 eval: $(VENV)/.installed
 	$(PY) -m train.evaluate --agent all --episodes 50 --seed 1000
 
-# recognizers ranked by errand success on the frozen suite's test buildings (hours: see
-# docs/benchmarks.md for the cost; --size quick for a check)
+# recognizers ranked on the frozen suite's eight tracks, test buildings, then one suite score
+# (about 3.5 hours on 2 cores: docs/benchmarks.md; --size quick for a check)
 leaderboard: $(VENV)/.installed
+	$(VENV)/bin/placeclust leaderboard --suite placenav-v2 --out runs/v2
+	$(VENV)/bin/placeclust score $(V2_TRACKS) --pair panorama panorama-orb
+
+# the first suite, one set of errands on 60 buildings (about 2 hours on 2 cores)
+leaderboard-v1: $(VENV)/.installed
 	$(VENV)/bin/placeclust leaderboard --suite placenav-v1 --out runs/leaderboard
 
 # seed 001 on its paper's camera: Tables 2-3 and a second drive, 4 test buildings (~3 min)

@@ -175,7 +175,8 @@ def record(names: list[str], docs: Path = DOCS, manifest: Path = MANIFEST,
         stamp, command = found[name]
         runs = probes.probe_runs(name, commands, scratch)
         log(f"[{i}/{len(names)}] {name}: tracing {len(runs)} tiny run(s)")
-        trace = probes.union([probes.trace_command(r, scratch) for r in runs])
+        trace = probes.union([probes.trace_command(r, scratch, read_by_none=r is runs[-1])
+                              for r in runs])
         tracked = set(subprocess.run(["git", "ls-files", *trace["files"]], cwd=ROOT,
                                      capture_output=True, text=True).stdout.split())
         trace["files"] = [f for f in trace["files"] if f in tracked]

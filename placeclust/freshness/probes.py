@@ -283,10 +283,15 @@ def as_json(trace: dict[str, Any]) -> dict[str, Any]:
             "files": sorted(trace["files"])}
 
 
-def trace_command(argv: list[str], scratch: Path) -> dict[str, Any]:
-    """Trace one command line in a fresh process (so imports and caches start cold)."""
+def trace_command(argv: list[str], scratch: Path, read_by_none: bool = False
+                  ) -> dict[str, Any]:
+    """Trace one command line in a fresh process (so imports and caches start cold), or reuse
+    its trace from ``scratch``. A run whose output nothing reads (``read_by_none``: a section's
+    own, the last of :func:`probe_runs`) shares the trace of the same run written elsewhere, as
+    sections with one command line do (the eight of a suite of tracks)."""
     scratch.mkdir(parents=True, exist_ok=True)
-    target = scratch / f"trace-{hashlib.sha256(' '.join(argv).encode()).hexdigest()[:12]}.json"
+    key = [t for t, o in zip(argv, ["", *argv]) if not read_by_none or "--out" not in (t, o)]
+    target = scratch / f"trace-{hashlib.sha256(' '.join(key).encode()).hexdigest()[:12]}.json"
     if not target.exists():
         env = {**os.environ, "PYTHONPATH": os.pathsep.join(
             [str(ROOT), *filter(None, [os.environ.get("PYTHONPATH")])])}
@@ -314,11 +319,13 @@ def probe_runs(name: str, commands: dict[str, list[str]], scratch: Path) -> list
     argv = commands[name]
     runs, swap = [], {}
     found = inputs(argv, produced)
-    for owner in sorted({o for _, o in found if o}):
+    # a suite's tiny run leaves the long track out (SUITE_OPTIONS): its file gets a stand-in
+    alone = [p for p, o in found if o is None or (_track(p) == "long" and "--suite" in
+                                                  commands[produced[o]])]
+    for owner in sorted({o for p, o in found if o and p not in alone}):
         folder = str(scratch / produced[owner])
         runs.append(probe_argv(commands[produced[owner]], folder))
         swap[owner] = folder
-    alone = [p for p, o in found if o is None]
     runs += stand_in_commands(alone, scratch)
     swap.update({p: stand_in(p, scratch) for p in alone})
     runs.append(probe_argv(substitute(argv, swap), str(scratch / name)))

@@ -3,7 +3,9 @@
 import importlib.util
 import json
 import shlex
+import subprocess
 from importlib.metadata import entry_points
+from pathlib import Path
 
 import pytest
 
@@ -143,6 +145,21 @@ def test_a_command_that_reads_results_runs_what_wrote_them_or_a_stand_in(tmp_pat
     assert report[3:] == ["a=S/results.json@oracle,S/r.json", "b=Q/results.json@none"]
 
 
+def test_a_suites_long_track_read_from_its_run_gets_a_stand_in(tmp_path):
+    # the suite's tiny run leaves long out, so placeclust score over all eight tracks of a
+    # suite run reads long's file from a stand-in and every other track's from that tiny run
+    suite = "placeclust leaderboard --suite placenav-v2 --out runs/v2 --docs docs/benchmarks.md"
+    files = " ".join(f"runs/v2/{t}/results.json" for t in probes.TRACK_NAMES)
+    commands = {"leaderboard-v2": shlex.split(suite),
+                "score-v2": shlex.split(f"placeclust score {files} --docs docs/benchmarks.md")}
+    runs = probes.probe_runs("score-v2", commands, tmp_path)
+    assert [r[-1] for r in runs[:2]] == [str(tmp_path / "leaderboard-v2"),
+                                         str(tmp_path / "stand-in" / "long")]
+    score = runs[-1]
+    assert str(tmp_path / "stand-in" / "long" / "results.json") in score
+    assert str(tmp_path / "leaderboard-v2" / "carried" / "results.json") in score
+
+
 def test_a_constant_counts_where_the_code_that_ran_can_reach_it_across_modules():
     from placeclust.freshness.syntax import _digests, _parse
 
@@ -194,6 +211,23 @@ def test_record_traces_a_sections_command_and_check_then_finds_it_current(tmp_pa
     freshness.record(["latency"], docs, manifest, tmp_path / "scratch", log=lambda _: None,
                      now=True)
     assert freshness.load(manifest)["sections"]["latency"]["commit"] is None
+
+
+def test_sections_of_one_command_share_the_trace_of_their_own_run(tmp_path, monkeypatch):
+    ran = []
+
+    def fake_run(cmd, **_):  # the traced process: writes an empty trace where it is told
+        ran.append(cmd)
+        Path(cmd[4]).write_text('{"functions": {}, "files": []}')
+        return subprocess.CompletedProcess(cmd, 0, "", "")
+
+    monkeypatch.setattr(probes.subprocess, "run", fake_run)
+    board = "placeclust leaderboard --suite placenav-v2 --workers 1 --out".split()
+    for name in ("leaderboard-v2-continued", "leaderboard-v2-carried"):
+        probes.trace_command([*board, str(tmp_path / name)], tmp_path, read_by_none=True)
+    assert len(ran) == 1  # their own runs differ only in where they write, which none reads
+    probes.trace_command([*board, str(tmp_path / "read")], tmp_path)  # another reads it: run
+    assert len(ran) == 2
 
 
 @needs_cli
