@@ -68,6 +68,9 @@ PATIENCE = 3
 GRID = 0.2
 #: m: a tour point this close to a beam that read nothing means the beam should have hit it
 BLOCKED = 0.12
+#: a search over more positions than this measures its beams ``PRUNE_BEAMS`` at a time and
+#: drops the positions that cannot fit best (:meth:`ScanMap.best_fit`): the same answer, sooner
+PRUNE, PRUNE_BEAMS = 100, 4
 _BEAMS = 2 * math.pi * np.arange(N_RANGES) / N_RANGES
 #: where along a beam that hit nothing the tour's points are looked for
 _FREE = np.arange(0.5, MAX_RANGE - 0.3, 0.15)
@@ -122,28 +125,60 @@ class ScanMap:
         lo, hi = seen.min(axis=0), seen.max(axis=0)
         xs, ys = np.arange(lo[0], hi[0], GRID), np.arange(lo[1], hi[1], GRID)
         grid = np.stack(np.meshgrid(xs, ys), axis=-1).reshape(-1, 2)
-        fit = self.misfits(grid, yaw, ranges).mean(axis=1)
-        best = grid[np.argmin(fit)]
+        best = grid[self.best_fit(grid, yaw, ranges)[0]]
         fine = best + np.stack(np.meshgrid(*[np.linspace(-GRID, GRID, 9)] * 2),
                                axis=-1).reshape(-1, 2)
-        fit = self.misfits(fine, yaw, ranges).mean(axis=1)
-        k = int(np.argmin(fit))
-        return fine[k], float(fit[k])
+        k, fit = self.best_fit(fine, yaw, ranges)
+        return fine[k], fit
 
-    def misfits(self, positions: np.ndarray, yaw: float, ranges: np.ndarray) -> np.ndarray:
-        """(P, N_RANGES) each beam's misfit (m) at each of ``positions``: for a beam that hit,
-        the distance of its endpoint from the tour's nearest, at most ``CLIP``; for one that hit
-        nothing, ``CLIP`` where the tour saw something along it (a wall it should have hit),
-        else 0."""
+    def best_fit(self, positions: np.ndarray, yaw: float, ranges: np.ndarray
+                 ) -> tuple[int, float]:
+        """The index and mean misfit of the one of ``positions`` where the scan fits best: the
+        first minimum of ``misfits(positions, yaw, ranges).mean(axis=1)``, the same index and
+        value, found without every position's every beam.
+
+        Misfits are never negative, so the beams measured so far bound a position's mean from
+        below: beams are measured a few at a time (those that hit first: a beam that hit
+        nothing costs a query at every ``_FREE`` step), and a position whose bound already
+        exceeds the best whole mean found is dropped. Those left are measured whole.
+        """
+        order = np.argsort(ranges >= MAX_RANGE - 1e-3, kind="stable")
+        if len(positions) <= PRUNE or ranges.min() >= MAX_RANGE - 1e-3:
+            fit = self.misfits(positions, yaw, ranges).mean(axis=1)
+            k = int(np.argmin(fit))
+            return k, float(fit[k])
+        alive = np.arange(len(positions))
+        partial = np.zeros(len(positions))
+        best = math.inf
+        for group in np.array_split(order, N_RANGES // PRUNE_BEAMS):
+            partial[alive] += self.misfits(positions[alive], yaw, ranges, group).sum(axis=1)
+            lead = alive[np.argmin(partial[alive])]
+            best = min(best, float(self.misfits(positions[lead:lead + 1], yaw, ranges).mean()))
+            # a margin for rounding: a sum taken in another order may differ in its last bits
+            alive = alive[partial[alive] <= best * N_RANGES + 1e-9]
+        fit = self.misfits(positions[alive], yaw, ranges).mean(axis=1)
+        k = int(np.argmin(fit))
+        return int(alive[k]), float(fit[k])
+
+    def misfits(self, positions: np.ndarray, yaw: float, ranges: np.ndarray,
+                beams: np.ndarray | None = None) -> np.ndarray:
+        """(P, B) each beam's misfit (m) at each of ``positions`` (P, 2), for ``beams`` (indices;
+        all ``N_RANGES`` by default): for a beam that hit, the distance of its endpoint from the
+        tour's nearest, at most ``CLIP``; for one that hit nothing, ``CLIP`` where the tour saw
+        something along it (a wall it should have hit), else 0. ``inf`` everywhere when no beam
+        hit anything."""
+        beams = np.arange(N_RANGES) if beams is None else np.asarray(beams)
         hits = endpoints(np.zeros(2), yaw, ranges)
+        if not np.isfinite(hits).all(axis=1).any():
+            return np.full((len(positions), len(beams)), math.inf)
+        hits = hits[beams]
         hit = np.isfinite(hits).all(axis=1)
-        out = np.zeros((len(positions), N_RANGES))
-        if not hit.any():
-            return np.full((len(positions), N_RANGES), math.inf)
-        d, _ = self.tree.query((positions[:, None, :] + hits[hit][None]).reshape(-1, 2),
-                               distance_upper_bound=CLIP)
-        out[:, hit] = np.minimum(d, CLIP).reshape(len(positions), -1)
-        angle = yaw + _BEAMS[~hit]
+        out = np.zeros((len(positions), len(beams)))
+        if hit.any():
+            d, _ = self.tree.query((positions[:, None, :] + hits[hit][None]).reshape(-1, 2),
+                                   distance_upper_bound=CLIP)
+            out[:, hit] = np.minimum(d, CLIP).reshape(len(positions), -1)
+        angle = yaw + _BEAMS[beams[~hit]]
         if angle.size:
             ray = np.stack([np.cos(angle), np.sin(angle)], axis=-1)  # (M, 2)
             along = positions[:, None, None, :] + _FREE[None, None, :, None] * ray[None, :, None]

@@ -64,6 +64,21 @@ def test_a_scan_fits_where_it_was_taken_and_is_found_there(room, x, y, yaw):
     assert np.linalg.norm(position - [x, y]) < 0.15 and fit < 0.06
 
 
+@pytest.mark.parametrize("x, y, yaw", [(1.0, 1.0, 0.3), (4.5, 1.2, -2.0), (5.5, 3.5, 2.5)])
+def test_the_pruned_search_gives_every_positions_answer(room, x, y, yaw):
+    # a grid over the room and beyond it, scans taken in and out of the room (beams that hit
+    # nothing: the costly ones), and ties (a grid with repeated positions): the index and the
+    # value are those of the plain argmin over every position's every beam
+    grid = np.stack(np.meshgrid(np.arange(-1, 7, 0.2), np.arange(-1, 5, 0.2)), -1).reshape(-1, 2)
+    grid = np.concatenate([grid, grid[::7]])
+    for scan in (_scan(x, y, yaw), np.minimum(_scan(x, y, yaw) + 1.5, MAX_RANGE)):
+        fit = room.misfits(grid, yaw, scan).mean(axis=1)
+        k, value = room.best_fit(grid, yaw, scan)
+        assert (k, value) == (int(np.argmin(fit)), float(fit.min()))
+    k, value = room.best_fit(grid, yaw, np.full(N_RANGES, MAX_RANGE))  # nothing hit: no fit
+    assert k == 0 and value == math.inf
+
+
 def test_a_wall_the_robot_stands_at_gives_it_away(room):
     scan = _scan(0.5, 2.0, math.pi)  # facing the west wall, 0.5 m from it
     assert room.near_misfit(np.array([0.5, 2.0]), math.pi, scan) < 0.1
