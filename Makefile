@@ -70,6 +70,8 @@ real-images: $(VENV)/.installed
 # Regenerates every table of docs/benchmarks.md, one command after the other (never two timings
 # at once): about 10 hours on a 2-core machine, the suites 106 minutes (v1) and 3.5 hours (v2).
 DOCS := --docs docs/benchmarks.md
+# seed 000's recognizer with the paper's values (--preset paper), as a user's class
+PAPER := placeclust.online:OnlinePlaceClustering
 V2_TRACKS := $(foreach t,continued changed-night changed-cloudy changed-moved carried corridor \
 	corridor-carried long,runs/v2/$(t)/results.json)
 PANORAMA_TOURS := --algos online --features sift --conditions day --scenes 0 1 2 3 --rooms 4 8 \
@@ -135,6 +137,10 @@ benchmarks: $(VENV)/.installed
 	$(VENV)/bin/placeclust leaderboard --suite placenav-v2 --out runs/v2 $(DOCS)
 	$(VENV)/bin/placeclust score $(V2_TRACKS) --pair panorama panorama-orb $(DOCS) \
 		--section score-placenav-v2
+	$(VENV)/bin/placeclust leaderboard --suite placenav-v2 --recognizers $(PAPER) panorama \
+		oracle none --preset paper --out runs/v2-paper
+	$(VENV)/bin/placeclust score $(subst runs/v2/,runs/v2-paper/,$(V2_TRACKS)) \
+		--pair $(PAPER) panorama $(DOCS) --section score-placenav-v2-paper
 	$(PY) -m placeclust.freshness record --now $$($(PY) -c \
 		"from placeclust import freshness; print(*freshness.sections())")
 	$(PY) -m placeclust.freshness check --write

@@ -8,7 +8,8 @@ for the closed loop, whose intervals need two; the options that set the size are
 functions of the repository produce that section's figures (:func:`traced`). A command
 that reads results (``compare``, ``score``, ``train.report``, ``stats``) first runs the probe
 of the section that wrote them (the one whose ``--out`` holds them), or, for inputs no section
-writes, a stand-in: a tiny closed-loop run, or tiny tours.
+writes, a stand-in: a tiny closed-loop run (with any recognizer the command names that the
+stand-in lacks, :func:`named`), or tiny tours.
 
 Commands are found by name (the ``placeclust`` console script, ``python -m train.X``): this
 library imports nothing of the simulator.
@@ -72,6 +73,9 @@ STAND_IN = ("placeclust leaderboard --recognizers oracle none panorama panorama-
 STAND_IN_SIZE = ("--split val --n-scenes 2 --rooms 3 --goals-per-scene 3 "
                  "--tour-steps-per-room 25 --workers 1")
 STAND_IN_PLAIN = "placeclust leaderboard --recognizers oracle none panorama panorama-orb"
+#: the options by which a reading command names recognizers (``compare --a``, ``score --pair``):
+#: one the stand-in lacks, a user's ``module:Class``, joins it with its constructor's defaults
+NAMING = ("--a", "--b", "--pair", "--floor", "--ceiling")
 #: the closed loop's tracks (``envs.commands.suite.TRACKS``, which this library cannot import;
 #: a test keeps the two alike)
 TRACK_NAMES = ("continued", "changed-night", "changed-cloudy", "changed-moved", "carried",
@@ -173,33 +177,61 @@ def _track(path: str) -> str | None:
     return parts[-2] if len(parts) > 2 and parts[-2] in TRACK_NAMES else None
 
 
-def stand_in(path: str, scratch: Path) -> str:
+def named(argv: list[str]) -> tuple[str, ...]:
+    """The recognizers a reading command names that the stand-ins do not run (a user's
+    ``module:Class``, a calibration recognizer), in order: the stand-in runs them too."""
+    known = set(shlex.split(STAND_IN)) | set(shlex.split(STAND_IN_PLAIN))
+    names = [n for o, v in _options(argv) if o in NAMING for n in v]
+    return tuple(dict.fromkeys(n for n in names if n not in known))
+
+
+def _folder(scratch: Path, base: str, extra: tuple[str, ...]) -> Path:
+    # stand-ins with other recognizers each get a folder of their own: a cached trace skips
+    # its run, so a shared folder could hold another stand-in's files
+    tag = hashlib.sha256(" ".join(extra).encode()).hexdigest()[:8]
+    return scratch / (f"{base}-{tag}" if extra else base)
+
+
+def stand_in(path: str, scratch: Path, extra: tuple[str, ...] = ()) -> str:
     """Where the stand-in run holds a file like ``path``: a track's results if the folder
     above it names a track, else a run's without tracks; or a tiny tour for a ``tour.npz`` (a
-    panorama one if its path says so, with doors if it says so)."""
+    panorama one if its path says so, with doors if it says so). ``extra``: the recognizers
+    it runs beside its own (:func:`named`)."""
     if path.endswith("tour.npz"):
         return str(scratch / f"tour-{_tour_name(path)}" / "tour.npz")
     track = _track(path)
-    return str(scratch / "stand-in" / track / "results.json" if track
-               else scratch / "stand-in-plain" / "results.json")
+    return str(_folder(scratch, "stand-in", extra) / track / "results.json" if track
+               else _folder(scratch, "stand-in-plain", extra) / "results.json")
 
 
-def stand_in_commands(paths: list[str], scratch: Path) -> list[list[str]]:
-    """The runs that make the stand-ins of ``paths``."""
+def _with(command: str, extra: tuple[str, ...]) -> list[str]:
+    """``command`` (a stand-in's) with ``extra`` after its own recognizers."""
+    argv = shlex.split(command)
+    at = argv.index("--recognizers") + 1
+    while at < len(argv) and not argv[at].startswith("--"):
+        at += 1
+    return argv[:at] + list(extra) + argv[at:]
+
+
+def stand_in_commands(paths: list[str], scratch: Path, extra: tuple[str, ...] = ()
+                      ) -> list[list[str]]:
+    """The runs that make the stand-ins of ``paths``, with recognizers ``extra`` beside
+    their own."""
     runs = []
     results = [p for p in paths if not p.endswith("tour.npz")]
     tracks = sorted({t for t in map(_track, results) if t}, key=TRACK_NAMES.index)
+    tracked = _folder(scratch, "stand-in", extra)
     if "long" in tracks:
         # the long track is the plain errands after a longer tour: the same code at a tiny
         # tour (its own 500 steps a room, traced, would take minutes)
         tracks.remove("long")
-        runs.append(probe_argv(shlex.split(STAND_IN_PLAIN) + ["--agent", "relocalizer"],
-                               str(scratch / "stand-in" / "long"), STAND_IN_SIZE))
+        runs.append(probe_argv(_with(STAND_IN_PLAIN, extra) + ["--agent", "relocalizer"],
+                               str(tracked / "long"), STAND_IN_SIZE))
     if tracks:
-        runs.append(probe_argv(shlex.split(STAND_IN) + tracks, str(scratch / "stand-in"),
-                               STAND_IN_SIZE))
+        runs.append(probe_argv(_with(STAND_IN, extra) + tracks, str(tracked), STAND_IN_SIZE))
     if any(not _track(p) for p in results):
-        runs.append(probe_argv(shlex.split(STAND_IN_PLAIN), str(scratch / "stand-in-plain")))
+        runs.append(probe_argv(_with(STAND_IN_PLAIN, extra),
+                               str(_folder(scratch, "stand-in-plain", extra))))
     for name in sorted({_tour_name(p) for p in paths if p.endswith("tour.npz")}):
         tour = ("placeclust tour --camera " + name.split("-")[0]
                 + (" --doors 1.0" if name.endswith("doors") else ""))
@@ -326,8 +358,9 @@ def probe_runs(name: str, commands: dict[str, list[str]], scratch: Path) -> list
         folder = str(scratch / produced[owner])
         runs.append(probe_argv(commands[produced[owner]], folder))
         swap[owner] = folder
-    runs += stand_in_commands(alone, scratch)
-    swap.update({p: stand_in(p, scratch) for p in alone})
+    extra = named(argv)
+    runs += stand_in_commands(alone, scratch, extra)
+    swap.update({p: stand_in(p, scratch, extra) for p in alone})
     runs.append(probe_argv(substitute(argv, swap), str(scratch / name)))
     return runs
 

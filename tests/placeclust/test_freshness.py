@@ -160,6 +160,27 @@ def test_a_suites_long_track_read_from_its_run_gets_a_stand_in(tmp_path):
     assert str(tmp_path / "leaderboard-v2" / "carried" / "results.json") in score
 
 
+def test_a_stand_in_also_runs_the_recognizers_the_reader_names(tmp_path):
+    # score --pair over a user's recognizer, from files no section writes: the stand-in must
+    # run that recognizer too, or the tiny score has nothing to pair (and traces none of it)
+    mine = "placeclust.online:OnlinePlaceClustering"
+    files = " ".join(f"runs/x/{t}/results.json" for t in ("carried", "long"))
+    commands = {"score-x": shlex.split(f"placeclust score {files} --pair {mine} panorama "
+                                       "--docs docs/benchmarks.md")}
+    runs = probes.probe_runs("score-x", commands, tmp_path)
+    for stand_in in runs[:2]:
+        recognizers = stand_in[stand_in.index("--recognizers") + 1:]
+        assert recognizers[:5] == ["oracle", "none", "panorama", "panorama-orb", mine] or \
+            recognizers[:6] == ["oracle", "none", "panorama", "panorama-orb", "oracle-noise:0.05",
+                                mine]
+    folders = {Path(r[-1]).name for r in runs[:2]}
+    assert "stand-in" not in folders  # not the folder the plain stand-ins are kept in
+    assert all(str(Path(runs[1][-1]) / t / "results.json") in runs[-1] for t in ("carried",))
+    plain = probes.probe_runs("s", {"s": shlex.split(f"placeclust score {files} --pair panorama "
+                                                     "panorama-orb")}, tmp_path)
+    assert mine not in plain[0] and Path(plain[1][-1]).name == "stand-in"
+
+
 def test_a_constant_counts_where_the_code_that_ran_can_reach_it_across_modules():
     from placeclust.freshness.syntax import _digests, _parse
 
