@@ -180,7 +180,8 @@ def _track(path: str) -> str | None:
 def named(argv: list[str]) -> tuple[str, ...]:
     """The recognizers a reading command names that the stand-ins do not run (a user's
     ``module:Class``, a calibration recognizer), in order: the stand-in runs them too."""
-    known = set(shlex.split(STAND_IN)) | set(shlex.split(STAND_IN_PLAIN))
+    known = {r for c in (STAND_IN, STAND_IN_PLAIN)
+             for r in _recognizers(shlex.split(c))[1]}
     names = [n for o, v in _options(argv) if o in NAMING for n in v]
     return tuple(dict.fromkeys(n for n in names if n not in known))
 
@@ -204,13 +205,19 @@ def stand_in(path: str, scratch: Path, extra: tuple[str, ...] = ()) -> str:
                else _folder(scratch, "stand-in-plain", extra) / "results.json")
 
 
+def _recognizers(argv: list[str]) -> tuple[int, list[str]]:
+    """Where a stand-in's ``--recognizers`` list ends in ``argv``, and the list."""
+    start = end = argv.index("--recognizers") + 1
+    while end < len(argv) and not argv[end].startswith("--"):
+        end += 1
+    return end, argv[start:end]
+
+
 def _with(command: str, extra: tuple[str, ...]) -> list[str]:
     """``command`` (a stand-in's) with ``extra`` after its own recognizers."""
     argv = shlex.split(command)
-    at = argv.index("--recognizers") + 1
-    while at < len(argv) and not argv[at].startswith("--"):
-        at += 1
-    return argv[:at] + list(extra) + argv[at:]
+    end, _ = _recognizers(argv)
+    return argv[:end] + list(extra) + argv[end:]
 
 
 def stand_in_commands(paths: list[str], scratch: Path, extra: tuple[str, ...] = ()
