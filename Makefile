@@ -68,7 +68,8 @@ real-images: $(VENV)/.installed
 		runs/stats/forward-1000-doors/tour.npz --max-features 100 $(DOCS) --section image-stats-100
 
 # Regenerates every table of docs/benchmarks.md, one command after the other (never two timings
-# at once): about 10 hours on a 2-core machine, the suites 106 minutes (v1) and 3.5 hours (v2).
+# at once): about 11 hours on a 2-core machine, the suites 106 minutes (v1) and 3.5 hours (v2),
+# v2's calibration 43 minutes.
 DOCS := --docs docs/benchmarks.md
 # seed 000's recognizer with the paper's values (--preset paper), as a user's class
 PAPER := placeclust.online:OnlinePlaceClustering
@@ -141,6 +142,11 @@ benchmarks: $(VENV)/.installed
 		oracle none --preset paper --out runs/v2-paper
 	$(VENV)/bin/placeclust score $(subst runs/v2/,runs/v2-paper/,$(V2_TRACKS)) \
 		--pair $(PAPER) panorama $(DOCS) --section score-placenav-v2-paper
+	$(VENV)/bin/placeclust leaderboard --suite placenav-v2 --recognizers oracle none \
+		oracle-noise:0.01 oracle-noise:0.02 oracle-noise:0.05 oracle-merge:0.1 oracle-merge:0.3 \
+		oracle-split:2 oracle-split:4 --out runs/v2-cal
+	$(VENV)/bin/placeclust score $(subst runs/v2/,runs/v2-cal/,$(V2_TRACKS)) \
+		--calibration docs/images/calibration_test.png $(DOCS) --section calibration-placenav-v2
 	$(PY) -m placeclust.freshness record --now $$($(PY) -c \
 		"from placeclust import freshness; print(*freshness.sections())")
 	$(PY) -m placeclust.freshness check --write

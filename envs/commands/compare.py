@@ -11,11 +11,12 @@ difference A − B with its 95% interval from a bootstrap over the shared buildi
 probability of improvement P(A > B) (:mod:`placeclust.stats`). A difference whose interval
 holds 0 is not a difference the sample can decide, and the verdict line says so.
 
-Results are comparable only from the same buildings, errands and tours, rendered alike: files
-from different suites, settings or buildings, or with different render fingerprints, are
-refused (exit 2) with what differs; ``--force`` compares them anyway on the buildings they
-share and prints every difference as a ``FLAG`` line above the table (and in the docs
-section). Different package versions or agents are noted, not refused: comparing two versions,
+Results are comparable only from the same buildings, errands and tours, rendered and simulated
+alike: files from different suites, settings or buildings, or with different render or physics
+fingerprints (:func:`~envs.commands.suite.physics_fingerprint`), are refused (exit 2) with what
+differs; ``--force`` compares them anyway on the buildings they share and prints every
+difference as a ``FLAG`` line above the table (and in the docs section). Different package
+versions (each one a ``note:`` line) or agents are noted, not refused: comparing two versions,
 or two agents on one recognizer's maps, is what a change is judged by. Where the files differ in
 agent or suite size, each side's name says which, e.g. ``panorama (long)`` against
 ``panorama (quick)``: the same maps after a long and a short tour, compared with ``--force``.
@@ -85,12 +86,13 @@ def _pick(doc: dict[str, Any], name: str | None, path: Path, flag: str) -> str:
 
 
 def differences(a: dict[str, Any], b: dict[str, Any]) -> list[str]:
-    """What makes two results files incomparable: suite, settings, render, buildings."""
+    """What makes two results files incomparable: suite, settings, render, physics."""
     found = []
     pa, pb = a["provenance"], b["provenance"]
-    for key in ("suite", "size", "render_fingerprint"):
-        if pa.get(key) != pb.get(key):
-            found.append(f"{key}: {pa.get(key)} against {pb.get(key)}")
+    for key in ("suite", "size", "render_fingerprint", "physics_fingerprint"):
+        if pa.get(key) != pb.get(key):  # older files record no physics fingerprint
+            found.append(f"{key}: {pa.get(key, 'not recorded')} against "
+                         f"{pb.get(key, 'not recorded')}")
     # what runs on the buildings, recognizer and agent, is what a comparison is about
     sa = {k: v for k, v in a["settings"].items() if k not in AGENT_KEYS}
     sb = {k: v for k, v in b["settings"].items() if k not in AGENT_KEYS}
@@ -98,6 +100,14 @@ def differences(a: dict[str, Any], b: dict[str, Any]) -> list[str]:
         if sa.get(key) != sb.get(key):
             found.append(f"settings {key}: {sa.get(key)} against {sb.get(key)}")
     return found
+
+
+def version_notes(a: dict[str, Any], b: dict[str, Any]) -> list[str]:
+    """The package versions two results files differ in, e.g. ``placeclust 0.15.0 against
+    0.16.0``: noted, not refused (the fingerprints say whether they render and move alike)."""
+    va, vb = (d["provenance"].get("versions", {}) for d in (a, b))
+    return [f"{k} {va.get(k, '?')} against {vb.get(k, '?')}"
+            for k in sorted(set(va) | set(vb)) if va.get(k) != vb.get(k)]
 
 
 def table(rows_a: list[dict[str, Any]], rows_b: list[dict[str, Any]], name_a: str,
@@ -173,9 +183,8 @@ def main(argv: list[str] | None = None, prog: str = "placeclust compare") -> int
         return 2
     for line in found:
         print(f"FLAG {line}")
-    va, vb = (d["provenance"]["versions"].get("placeclust") for d in (a, b))
-    if va != vb:
-        print(f"note: placeclust {va} against {vb}")
+    for line in version_notes(a, b):
+        print(f"note: {line}")
     name_a, name_b = _labels(a, b, name_a, name_b)
     text, figures = table(rows_a, rows_b, name_a, name_b)
     # the task's settings, where both ran the same (a difference is a FLAG line already)

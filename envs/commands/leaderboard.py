@@ -10,10 +10,12 @@ Every recognizer maps every building of the split from a guided tour, and the sa
 (:mod:`envs.agents.teach_repeat` by default) runs the same errands on each map
 (:func:`envs.commands.closed_loop.run_scene`). A suite (:mod:`envs.commands.suite`) fixes the
 buildings, rooms, errands, tour length and seed, so results are comparable across machines and
-versions; without one, ``--split``/``--scene-seeds`` and the other options say what runs, and
-the results belong to no suite. The table puts task success beside the same maps' open-loop
-precision, NMI and places per room, each a mean with its 95% interval from a bootstrap over
-buildings (:mod:`placeclust.stats`), and ``success_vs_nmi.png`` plots one against the other.
+versions that render and simulate alike (the render and physics fingerprints every results file
+records; :func:`~envs.commands.suite.provenance`); without one, ``--split``/``--scene-seeds``
+and the other options say what runs, and the results belong to no suite. The table puts task
+success beside the same maps' open-loop precision, NMI and places per room, each a mean with
+its 95% interval from a bootstrap over buildings (:mod:`placeclust.stats`), and
+``success_vs_nmi.png`` plots one against the other.
 ``OUT/results.json`` (:mod:`envs.commands.results`) holds every building's errands, the
 summaries and the provenance; ``placeclust compare`` pairs two recognizers from such files.
 A ``package.module:Class`` among the recognizers is one of your own, with ``--preset`` and
@@ -293,8 +295,9 @@ def _describe(args: argparse.Namespace, seeds: list[int], summaries: list[dict[s
     where = f"{args.split} split, scene seeds" if args.split else "scene seeds"
     span = seed_span(seeds)
     suite = (f"Suite `{prov['suite']}` ({prov['size']}), placeclust "
-             f"{prov['versions']['placeclust']}, render fingerprint "
-             f"`{prov['render_fingerprint']}`. " if prov["suite"] else "")
+             f"{prov['versions']['placeclust']}, MuJoCo {prov['versions']['mujoco']}, render "
+             f"fingerprint `{prov['render_fingerprint']}`, physics fingerprint "
+             f"`{prov['physics_fingerprint']}`. " if prov["suite"] else "")
     redrawn = sum(s["redrawn"] for s in summaries)
     where_from = f"Track `{track}`: {TRACKS[track].tests}. " if track else ""
     if args.localize_only:

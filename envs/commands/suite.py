@@ -4,8 +4,9 @@ A suite is named and versioned (``placenav-v1``) and never changes once publishe
 choice is a new version. Every results file records the suite it ran (or none), the package
 version, the versions of the libraries that render and match, and a *render fingerprint*, a
 hash of a few reference frames: Mesa, MuJoCo or a texture change that moves one pixel changes
-it, so a result from another machine says whether it is comparable
-(:func:`provenance`, checked by ``placeclust compare``).
+it; and a *physics fingerprint*, a hash of one fixed drive: a MuJoCo version that moves the
+robot otherwise changes it, though it may draw the same pixels. So a result from another
+machine says whether it is comparable (:func:`provenance`, checked by ``placeclust compare``).
 
 Examples:
     >>> from envs.commands.suite import SUITES
@@ -264,6 +265,42 @@ def render_fingerprint() -> str:
     return digest.hexdigest()[:16]
 
 
+#: the fixed drive of :func:`physics_fingerprint`: control steps straight ahead, then turning
+PHYSICS_DRIVE = (120, 80)
+
+
+@functools.cache
+def physics_fingerprint() -> str:
+    """A hash of one fixed drive in one fixed building: the robot's state and rangefinders
+    after each control step, as it drives straight into building 0's furniture and walls for
+    :data:`PHYSICS_DRIVE` ``[0]`` steps, then turns at random for ``[1]``.
+
+    Two machines with the same fingerprint simulate the benchmark's robot bit for bit alike.
+    The render fingerprint cannot tell: MuJoCo 3.17 and 4.0 draw the same pixels, but the same
+    drive ends 3 cm and 0.10 rad apart, and the same errands end otherwise
+    (``tests/envs/world/physics_reference.json`` holds the fingerprint for one version).
+    """
+    import mujoco
+
+    from ..tasks.place_nav import PlaceNavEnv  # its package sets MUJOCO_GL first
+
+    ahead, turning = PHYSICS_DRIVE
+    actions = np.random.default_rng(0).uniform(-1.0, 1.0, size=(ahead + turning, 2))
+    actions[:ahead] = (1.0, 0.0)
+    env = PlaceNavEnv(scene_seed=0, n_rooms=4)
+    try:
+        env.reset(seed=0)
+        digest = hashlib.sha256()
+        for action in actions.astype(np.float32):
+            env.robot.command(env.data, action)
+            mujoco.mj_step(env.model, env.data, nstep=env.n_substeps)
+            for values in (env.data.qpos, env.data.qvel, env.data.sensordata):
+                digest.update(np.ascontiguousarray(values).tobytes())
+    finally:
+        env.close()
+    return digest.hexdigest()[:16]
+
+
 def renderer_info() -> dict[str, str]:
     """What draws the pixels here: OpenGL's version and renderer strings (Mesa's version and
     llvmpipe on a CPU machine) and MuJoCo's version. A stored render fingerprint holds for
@@ -312,7 +349,9 @@ def sources_fingerprint(*sources: str | Path) -> str:
 
 def provenance(suite: Suite | None, size: str = "full") -> dict[str, Any]:
     """What a results file records so another can be told comparable or not: the suite (its
-    definition too) and size, or none, the library versions and the render fingerprint."""
+    definition too) and size, or none, the library versions, and the render and physics
+    fingerprints."""
     return {"suite": None if suite is None else suite.name, "size": size if suite else None,
             "definition": None if suite is None else asdict(suite),
-            "versions": library_versions(), "render_fingerprint": render_fingerprint()}
+            "versions": library_versions(), "render_fingerprint": render_fingerprint(),
+            "physics_fingerprint": physics_fingerprint()}

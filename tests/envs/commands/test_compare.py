@@ -9,7 +9,8 @@ from envs.commands import compare
 from envs.commands.results import load_results, write_results
 
 PROVENANCE = {"suite": "placenav-v1", "size": "quick", "definition": {},
-              "versions": {"placeclust": "0.13.0"}, "render_fingerprint": "abc"}
+              "versions": {"placeclust": "0.13.0", "mujoco": "4.0.0"},
+              "render_fingerprint": "abc", "physics_fingerprint": "fed"}
 SETTINGS = {"split": "test", "scene_seeds": [0, 1, 2, 3], "rooms": 6, "goals": 4, "seed": 0,
             "agent": "planner", "task": {}}
 
@@ -63,6 +64,7 @@ def test_compare_says_when_the_sample_cannot_decide(results, capsys):
 @pytest.mark.parametrize(("field", "value", "message"), [
     (("provenance", "suite"), "placenav-v2", "suite: placenav-v1 against placenav-v2"),
     (("provenance", "render_fingerprint"), "def", "render_fingerprint: abc against def"),
+    (("provenance", "physics_fingerprint"), "cba", "physics_fingerprint: fed against cba"),
     (("settings", "goals"), 5, "settings goals: 4 against 5"),
 ])
 def test_results_from_another_suite_or_render_are_refused_or_flagged(
@@ -227,3 +229,19 @@ def test_calibration_gives_each_tracks_resolution_and_draws_its_curves(tmp_path,
     assert compare.score_main([str(plain), "--calibration", str(tmp_path / "x.png")]) == 2
     assert "no calibration recognizer" in capsys.readouterr().err
     assert not (tmp_path / "x.png").exists()
+
+
+def test_a_file_without_a_physics_fingerprint_is_refused_and_versions_are_noted(
+        results, tmp_path, capsys):
+    older = copy.deepcopy(load_results(results))
+    del older["provenance"]["physics_fingerprint"]  # as files written before it was recorded
+    older["provenance"]["versions"].update(placeclust="0.14.0", mujoco="3.17.0")
+    path = tmp_path / "older.json"
+    path.write_text(json.dumps(older))
+    argv = [str(results), str(path), "--a", "good", "--b", "poor"]
+    assert compare.main(argv) == 2
+    assert "physics_fingerprint: fed against not recorded" in capsys.readouterr().err
+    assert compare.main([*argv, "--force"]) == 0
+    out = capsys.readouterr().out
+    assert "note: mujoco 4.0.0 against 3.17.0" in out
+    assert "note: placeclust 0.13.0 against 0.14.0" in out

@@ -4,10 +4,17 @@ import dataclasses
 import json
 import re
 
+import mujoco
 import pytest
 
 from envs.commands import leaderboard
-from envs.commands.suite import SUITES, get_suite, provenance, render_fingerprint
+from envs.commands.suite import (
+    SUITES,
+    get_suite,
+    physics_fingerprint,
+    provenance,
+    render_fingerprint,
+)
 from envs.world.splits import SPLITS
 
 
@@ -36,12 +43,15 @@ def test_placenav_v2_runs_every_track_with_the_relocalizer():
         assert suite.scene_seeds("quick", track) == suite.scene_seeds("full", track)[:1]
 
 
-def test_the_render_fingerprint_is_stable_and_recorded():
+def test_the_render_and_physics_fingerprints_are_stable_and_recorded():
     prov = provenance(SUITES["placenav-v1"], "quick")
     assert prov["render_fingerprint"] == render_fingerprint() and len(prov["versions"]) > 3
+    assert prov["physics_fingerprint"] == physics_fingerprint()
     assert prov["suite"] == "placenav-v1" and prov["definition"]["goals"] == 5
     render_fingerprint.cache_clear()
+    physics_fingerprint.cache_clear()
     assert render_fingerprint() == prov["render_fingerprint"]  # rendered again: the same
+    assert physics_fingerprint() == prov["physics_fingerprint"]  # driven again: the same
 
 
 def test_a_suite_fixes_its_buildings_and_errands(capsys):
@@ -116,6 +126,9 @@ def test_a_suite_of_tracks_runs_them_all_with_its_agent(monkeypatch, tmp_path, c
         "no suite score: track" in err  # one building may leave oracle and none level
     # one building: said so, and no half-width rather than nan
     assert "1 building of 3 rooms" in out and not re.search(r"\bnan\b", out)
+    # what the figures hold for: the engine and both fingerprints, named in the paragraph
+    assert (f"MuJoCo {mujoco.__version__}, render fingerprint `{render_fingerprint()}`, "
+            f"physics fingerprint `{physics_fingerprint()}`") in out
     for track in ("continued", "carried"):
         doc = json.loads((tmp_path / track / "results.json").read_text())
         assert doc["settings"]["agent"] == "relocalizer"  # the suite's, not the planner

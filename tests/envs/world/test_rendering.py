@@ -147,3 +147,22 @@ def test_the_renderer_draws_the_stored_reference_pixels():
     if here != drawn_by:
         pytest.skip(f"the reference was drawn by {drawn_by}; this machine has {here}")
     assert render_fingerprint() == stored["render_fingerprint"]
+
+
+def test_the_simulator_drives_the_stored_reference_path():
+    """The physics fingerprint of the fixed drive, stored with the MuJoCo that simulated it:
+    with that MuJoCo a change that moves the robot by one bit fails here (the pixels alone
+    cannot tell: MuJoCo 3.17 draws 4.0's pixels but drives elsewhere)."""
+    import json
+    import platform
+    from pathlib import Path
+
+    import mujoco
+
+    from envs.commands.suite import physics_fingerprint
+
+    stored = json.loads((Path(__file__).parent / "physics_reference.json").read_text())
+    here = {"mujoco": mujoco.__version__, "machine": platform.machine()}
+    if here != {k: stored[k] for k in here}:
+        pytest.skip(f"the reference was driven by {stored}; this machine has {here}")
+    assert physics_fingerprint() == stored["physics_fingerprint"]
