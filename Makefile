@@ -68,8 +68,8 @@ real-images: $(VENV)/.installed
 		runs/stats/forward-1000-doors/tour.npz --max-features 100 $(DOCS) --section image-stats-100
 
 # Regenerates every table of docs/benchmarks.md, one command after the other (never two timings
-# at once): about 11 hours on a 2-core machine, the suites 106 minutes (v1) and 3.5 hours (v2),
-# v2's calibration 43 minutes.
+# at once): 9 to 11 hours on a 2-core machine by its speed that day, the suites 106 minutes (v1)
+# and 1 h 45 min to 3.5 hours (v2), v2's calibration 43 minutes.
 DOCS := --docs docs/benchmarks.md
 # seed 000's recognizer with the paper's values (--preset paper), as a user's class
 PAPER := placeclust.online:OnlinePlaceClustering
@@ -109,6 +109,10 @@ benchmarks: $(VENV)/.installed
 		--param max_features=100 $(DOCS) --section seed001-test-doors-100
 	$(VENV)/bin/placeclust bench $(SPLIT_TOURS:orb=) --split test --doors 1.0 \
 		--out runs/panorama-test-doors $(DOCS)
+	for p in panorama paper; do $(VENV)/bin/placeclust bench --preset $$p --algos online \
+		--features sift --split val --rooms 6 --tour-seeds 0 --conditions day 'day>day' \
+		'day>night' 'day>cloudy' 'day>moved' --local-light --latency-sizes --out runs/lit-$$p \
+		--workers 2 $(DOCS); done
 	$(MAKE) real-images
 	$(VENV)/bin/placeclust latency $(DOCS)
 	$(VENV)/bin/placeclust latency --param consolidate=0.85 --section latency-consolidate \
@@ -186,7 +190,7 @@ eval: $(VENV)/.installed
 	$(PY) -m train.evaluate --agent all --episodes 50 --seed 1000
 
 # recognizers ranked on the frozen suite's eight tracks, test buildings, then one suite score
-# (about 3.5 hours on 2 cores: docs/benchmarks.md; --size quick for a check)
+# (1 h 45 min to 3.5 hours on 2 cores, by the day: docs/benchmarks.md; --size quick to check)
 leaderboard: $(VENV)/.installed
 	$(VENV)/bin/placeclust leaderboard --suite placenav-v2 --out runs/v2
 	$(VENV)/bin/placeclust score $(V2_TRACKS) --pair panorama panorama-orb
