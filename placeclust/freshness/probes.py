@@ -46,6 +46,9 @@ _SKIP_FILES = ("docs/", "runs/", ".git/", ".venv")
 #: options that only say where a result goes, or how many processes compute it
 _DROP = {"--docs", "--section", "--out", "--json", "--executor", "--ray-address", "--workers",
          "--quiet"}
+#: options naming a file the command writes beside its section (``score --calibration``'s
+#: figure): a probe writes it beside its own ``out`` instead, never over the docs' figure
+_WRITES = {"--calibration"}
 #: options that set a run's size, replaced by each subcommand's tiny values
 _SIZE = {"--scenes", "--scene-seeds", "--n-scenes", "--split", "--rooms", "--tour-seeds",
          "--steps-per-room", "--steps", "--goals-per-scene", "--tour-steps-per-room",
@@ -111,12 +114,15 @@ def subcommand(argv: list[str]) -> str:
 
 def probe_argv(argv: list[str], out: str | None = None, size: str | None = None) -> list[str]:
     """A section's command line at its tiny size (``size``: other options than the
-    subcommand's tiny ones), writing under ``out`` (None: nowhere)."""
+    subcommand's tiny ones), writing under ``out`` (None: nowhere); a file it writes besides
+    (:data:`_WRITES`) goes to ``OUT-NAME``, beside ``out``, so a probe leaves ``docs/`` alone."""
     name = subcommand(argv)
     head = argv[:3] if name.startswith("train.") else argv[:2]
     options = _options(argv[len(head):])
     kept = [(o, v) for o, v in options if o not in _DROP and o not in _SIZE
-            and not (name == "leaderboard" and o == "--size")]  # a suite's size, dropped
+            and not (name == "leaderboard" and o == "--size")  # a suite's size, dropped
+            and not (o in _WRITES and out is None)]
+    kept = [(o, [f"{out}-{Path(v[0]).name}"] if o in _WRITES and v else v) for o, v in kept]
     suite = next((v[0] for o, v in options if o == "--suite" and v), None)
     fixed = _options(shlex.split(SUITE_OPTIONS.get(suite or "", "")))
     given = {o for o, _ in kept}

@@ -123,6 +123,15 @@ def test_a_probe_is_the_sections_own_command_at_a_tiny_size():
                          "corridor-carried --recognizers oracle none --split val")
 
 
+def test_a_probe_writes_its_figure_beside_its_own_run_never_over_the_docs():
+    # a traced score --calibration once drew a stand-in's curves over docs/images/
+    command = ("placeclust score runs/v2-cal/continued/results.json --calibration "
+               "docs/images/calibration_test.png --docs docs/benchmarks.md --section c")
+    assert _probe(command, "/tmp/fr/c") == ("placeclust score runs/v2-cal/continued/results.json "
+                                            "--calibration /tmp/fr/c-calibration_test.png")
+    assert "docs/" not in " ".join(probes.probe_argv(shlex.split(command), None))
+
+
 def test_a_command_that_reads_results_runs_what_wrote_them_or_a_stand_in(tmp_path):
     produced = {"runs/quick": "leaderboard-quick"}
     argv = shlex.split("placeclust compare runs/quick/results.json runs/other/changed-night/"
