@@ -67,10 +67,14 @@ real-images: $(VENV)/.installed
 		runs/stats/forward-2000-doors/tour.npz runs/stats/forward-1000/tour.npz \
 		runs/stats/forward-1000-doors/tour.npz --max-features 100 $(DOCS) --section image-stats-100
 
-# Regenerates every table of docs/benchmarks.md, one command after the other (never two timings
-# at once): 9 to 11 hours on a 2-core machine by its speed that day, the suites 106 minutes (v1)
-# and 1 h 45 min to 3.5 hours (v2), v2's calibration 43 minutes.
+# Regenerates every table of docs/benchmarks.md but the tracks' val pilots (their commands are in
+# the docs), one command after the other (never two timings at once): 9 to 11 hours on a 2-core
+# machine by its speed that day, the suites 55 to 106 minutes (v1) and 1 h 45 min to 3.5 hours
+# (v2), v2's calibration 43 minutes.
 DOCS := --docs docs/benchmarks.md
+# the sections of the tracks' val pilots, which make benchmarks does not run (so does not record)
+VAL_PILOTS := score-pilot-val score-pilot-lit-val leaderboard-val-corridor-carried-relocalizer \
+	compare-val-corridor-carried calibration-corridor-carried-val calibration-tracks-val
 # seed 000's recognizer with the paper's values (--preset paper), as a user's class
 PAPER := placeclust.online:OnlinePlaceClustering
 V2_TRACKS := $(foreach t,continued changed-night changed-cloudy changed-moved carried corridor \
@@ -151,8 +155,8 @@ benchmarks: $(VENV)/.installed
 		oracle-split:2 oracle-split:4 --out runs/v2-cal
 	$(VENV)/bin/placeclust score $(subst runs/v2/,runs/v2-cal/,$(V2_TRACKS)) \
 		--calibration docs/images/calibration_test.png $(DOCS) --section calibration-placenav-v2
-	$(PY) -m placeclust.freshness record --now $$($(PY) -c \
-		"from placeclust import freshness; print(*freshness.sections())")
+	$(PY) -m placeclust.freshness record --now $$($(PY) -c "from placeclust import freshness; \
+		print(*sorted(set(freshness.sections()) - set('$(VAL_PILOTS)'.split())))")
 	$(PY) -m placeclust.freshness check --write
 
 # the benchmark matrix (envs/commands/bench.py): results.csv, results.md, precision.png, latency.png
@@ -195,7 +199,8 @@ leaderboard: $(VENV)/.installed
 	$(VENV)/bin/placeclust leaderboard --suite placenav-v2 --out runs/v2
 	$(VENV)/bin/placeclust score $(V2_TRACKS) --pair panorama panorama-orb
 
-# the first suite, one set of errands on 60 buildings (about 2 hours on 2 cores)
+# the first suite, one set of errands on 60 buildings (55 minutes to 2 hours on 2 cores,
+# by the day)
 leaderboard-v1: $(VENV)/.installed
 	$(VENV)/bin/placeclust leaderboard --suite placenav-v1 --out runs/leaderboard
 
