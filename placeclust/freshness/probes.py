@@ -241,7 +241,10 @@ def stand_in_commands(paths: list[str], scratch: Path, extra: tuple[str, ...] = 
         runs.append(probe_argv(_with(STAND_IN_PLAIN, extra) + ["--agent", "relocalizer"],
                                str(tracked / "long"), STAND_IN_SIZE))
     if tracks:
-        runs.append(probe_argv(_with(STAND_IN, extra) + tracks, str(tracked), STAND_IN_SIZE))
+        # the leaderboard writes one track's results into --out itself, several into a folder
+        # each: a lone track runs into its own folder, where stand_in() looks for it
+        out = tracked / tracks[0] if len(tracks) == 1 else tracked
+        runs.append(probe_argv(_with(STAND_IN, extra) + tracks, str(out), STAND_IN_SIZE))
     if any(not _track(p) for p in results):
         runs.append(probe_argv(_with(STAND_IN_PLAIN, extra),
                                str(_folder(scratch, "stand-in-plain", extra))))

@@ -143,10 +143,15 @@ def test_a_command_that_reads_results_runs_what_wrote_them_or_a_stand_in(tmp_pat
     runs = probes.stand_in_commands(["runs/v2/long/results.json", "runs/v2/carried/results.json"],
                                     tmp_path)  # long's own tours would take minutes traced
     assert [r[-1] for r in runs] == [str(tmp_path / "stand-in" / "long"),
-                                     str(tmp_path / "stand-in")]
+                                     str(tmp_path / "stand-in" / "carried")]
     assert "--track" not in runs[0] and runs[1][runs[1].index("--track") + 1:][:1] == ["carried"]
     assert probes.stand_in("runs/suite/place/results.json", tmp_path) == str(
         tmp_path / "stand-in-plain" / "results.json")
+    # a lone track: the leaderboard writes its results into --out itself, not a track folder
+    lone = "runs/agents/corridor/place.json"
+    (run,) = probes.stand_in_commands([lone], tmp_path)
+    assert run[run.index("--track") + 1:][:1] == ["corridor"]
+    assert str(Path(run[-1]) / "results.json") == probes.stand_in(lone, tmp_path)
     report = probes.substitute(["python", "-m", "train.report", "a=runs/x/a.json,runs/x/b.json",
                                 "b=runs/quick/results.json@none"],
                                {"runs/x/a.json": "S/results.json", "runs/x/b.json": "S/r.json",
@@ -181,11 +186,12 @@ def test_a_stand_in_also_runs_the_recognizers_the_reader_names(tmp_path):
     assert long == ["oracle", "none", "panorama", "panorama-orb", mine]
     assert tracked == ["oracle", "none", "panorama", "panorama-orb", "oracle-noise:0.05", mine]
     folders = {Path(r[-1]).name for r in runs[:2]}
-    assert "stand-in" not in folders  # not the folder the plain stand-ins are kept in
-    assert str(Path(runs[1][-1]) / "carried" / "results.json") in runs[-1]
+    assert folders == {"long", "carried"}  # the lone track runs into its own folder
+    assert str(Path(runs[1][-1]) / "results.json") in runs[-1]
+    assert Path(runs[1][-1]).parent.name != "stand-in"  # not where the plain stand-ins are kept
     plain = probes.probe_runs("s", {"s": shlex.split(f"placeclust score {files} --pair panorama "
                                                      "panorama-orb")}, tmp_path)
-    assert mine not in plain[0] and Path(plain[1][-1]).name == "stand-in"
+    assert mine not in plain[0] and Path(plain[1][-1]).parent.name == "stand-in"
 
 
 def test_a_constant_counts_where_the_code_that_ran_can_reach_it_across_modules():
