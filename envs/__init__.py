@@ -1,9 +1,9 @@
 """Simulated buildings for place recognition: the ``PlaceNav`` Gymnasium environments.
 
-Importing this package registers ``PlaceNav-v0``, ``PlaceNav-ReachRoom-v0`` and
-``PlaceNav-GuidedTour-v1`` and, unless the user has chosen a backend, selects MuJoCo's
-headless EGL renderer (``MUJOCO_GL=egl``), which must happen before ``mujoco`` is imported
-anywhere.
+Importing this package registers ``PlaceNav-v0``, ``PlaceNav-ReachRoom-v0``,
+``PlaceNav-GuidedTour-v1`` and ``PlaceNav-ImageGoal-v0`` and, unless the user has chosen a
+backend, selects MuJoCo's headless EGL renderer (``MUJOCO_GL=egl``), which must happen
+before ``mujoco`` is imported anywhere.
 
 Four subpackages by role, each importing only those before it: ``world`` (the building and
 how it is drawn), ``tasks`` (the Gymnasium envs and wrappers), ``agents`` (the planners that
@@ -45,6 +45,8 @@ for _id, _entry, _steps, _kwargs in (
         ("PlaceNav-ReachRoom-v0", "tasks.reach_room:ReachRoomEnv", 300, {}),
         # errands bound the episode: no step limit of its own
         ("PlaceNav-GuidedTour-v1", _TOUR, None, {}),
+        # errands to a picture of a spot, declared arrived by the agent (ImageNav's STOP)
+        ("PlaceNav-ImageGoal-v0", _TOUR, None, {"goal_kind": "image"}),
         # v0 let an errand start a step from its goal; kept to reproduce figures made with it
         ("PlaceNav-GuidedTour-v0", _TOUR, None, {"min_errand_distance": 0.0})):
     if _id not in registry:

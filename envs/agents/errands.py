@@ -30,12 +30,17 @@ from ..world.textures import ASSETS
 from . import hints
 from .learned import LearnedAgent
 from .relocalize import RelocalizingPlanner
+from .spot import SpotPlanner
 from .teach_repeat import TourPlanner
 
 #: agents that run errands on a guided tour's map: ``planner`` (teach and repeat, v1's),
 #: ``relocalizer`` (the planner that finds where it is again on the tour's scans: carried
-#: errands, changed worlds), a learned ``ppo`` policy, ``random`` actions
-ERRAND_AGENTS = ("planner", "relocalizer", "ppo", "random")
+#: errands, changed worlds), ``spot`` (the relocalizer that goes to an image goal's spot and
+#: stops: ``goal_kind="image"``), a learned ``ppo`` policy, ``random`` actions
+ERRAND_AGENTS = ("planner", "relocalizer", "spot", "ppo", "random")
+#: the agents that can run each kind of goal
+AGENTS_FOR = {"room": ("planner", "relocalizer", "ppo", "random"),
+              "image": ("spot", "random")}
 #: the shipped errand policy (``make train-errands``), package data of the wheel too
 POLICY = ASSETS / "policies" / "errands" / "ppo_errands.zip"
 
@@ -71,6 +76,7 @@ def run_scene(scene_seed: int, n_rooms: int = 6, recognizer: str = "panorama",
     """
     if agent not in ERRAND_AGENTS:
         raise ValueError(f"unknown agent {agent!r}; choose one of {ERRAND_AGENTS}")
+    check_goals(agent, task, tracks)
     check_recognizer_name(recognizer)
     learned = LearnedAgent.load(policy or POLICY) if agent == "ppo" else None
     head = {"scene_seed": scene_seed, "recognizer": recognizer,
@@ -101,6 +107,17 @@ def run_scene(scene_seed: int, n_rooms: int = 6, recognizer: str = "panorama",
                       "seconds": time.perf_counter() - start}
     return {**head, "tracks": rows,
             "seconds": float(sum(r["seconds"] for r in rows.values()))}
+
+
+def check_goals(agent: str, task: Mapping[str, Any],
+                tracks: Mapping[str, Mapping[str, Any]] | None = None) -> None:
+    """A ``ValueError`` naming the agents that can, if ``agent`` cannot run the errands'
+    kind of goal (``goal_kind`` in ``task`` or a track's arguments; default rooms)."""
+    for extra in (tracks or {"": {}}).values():
+        kind = {**task, **extra}.get("goal_kind", "room")
+        if agent not in AGENTS_FOR.get(kind, ()):
+            raise ValueError(f"the {agent} agent cannot run errands to {kind} goals; choose "
+                             f"one of {AGENTS_FOR.get(kind, ())}")
 
 
 def check_agent(agent: str, policy: Path | None) -> None:
@@ -143,16 +160,20 @@ def _errands(env: gym.Env, episode: int, agent: str, seed: int, learned: Learned
 
 
 def _scores(errands: list[dict]) -> dict[str, float]:
-    return {"success_rate": float(np.mean([e["success"] for e in errands])),
-            "spl": float(np.mean([e["spl"] for e in errands])),
-            "mean_length": float(np.mean([e["steps"] for e in errands]))}
+    out = {"success_rate": float(np.mean([e["success"] for e in errands])),
+           "spl": float(np.mean([e["spl"] for e in errands])),
+           "mean_length": float(np.mean([e["steps"] for e in errands]))}
+    if errands and "final_distance" in errands[0]:  # image goals: the distance left
+        out["final_distance"] = float(np.mean([e["final_distance"] for e in errands]))
+    return out
 
 
 def _agent(kind: str, env: gym.Env, info: dict, obs: dict, seed: int):
     if kind == "random":
         rng = np.random.default_rng(seed)
-        return lambda _obs: rng.uniform(-1, 1, 2).astype(np.float32)
-    kind_of = RelocalizingPlanner if kind == "relocalizer" else TourPlanner
+        size = env.action_space.shape
+        return lambda _obs: rng.uniform(-1, 1, size).astype(np.float32)
+    kind_of = {"relocalizer": RelocalizingPlanner, "spot": SpotPlanner}.get(kind, TourPlanner)
     planner = kind_of(unknown=hints.unknown_place(env), seed=seed)
     planner.reset(info["tour"], obs)
     return planner.act

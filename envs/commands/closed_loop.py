@@ -38,7 +38,7 @@ from placeclust.presets import PRESETS
 from placeclust.progress import progress as progress_bar
 from placeclust.runner import preset_params, recognizer_class
 
-from ..agents.errands import ERRAND_AGENTS, POLICY, check_agent, run_scene
+from ..agents.errands import ERRAND_AGENTS, POLICY, check_agent, check_goals, run_scene
 from ..agents.learned import config_path
 from ..tasks.errand_draws import ERRAND_STARTS
 from ..tasks.recognizers import (
@@ -238,6 +238,11 @@ def add_task_arguments(p: argparse.ArgumentParser, many_tracks: bool = False) ->
     else:
         p.add_argument("--track", choices=list(TRACKS), help="a named track's errands "
                        "(envs.commands.suite): changed-night, carried, corridor...")
+    p.add_argument("--goal-kind", choices=("room", "image"), default="room", help="errands to a "
+                   "named room, or to a picture of a spot (PlaceNav-ImageGoal-v0; the spot "
+                   "agent)")
+    p.add_argument("--success-radius", type=float, default=1.0, metavar="M", help="an image "
+                   "goal is reached by stopping within M metres of walking of it (default 1)")
     p.add_argument("--localize-only", action="store_true", help="the map is the tour's and "
                    "stays fixed during the errands (localize_one); recognizers without it are "
                    "skipped")
@@ -263,6 +268,11 @@ def task_from_args(args: argparse.Namespace, track: str | None = None) -> dict[s
             task[key] = value
     if args.localize_only:
         task["errand_learn"] = False
+    if getattr(args, "goal_kind", "room") == "image":  # PlaceNav-ImageGoal-v0's errands
+        if not args.success_radius > 0:
+            raise ValueError(f"--success-radius must be positive metres, got "
+                             f"{args.success_radius}")
+        task.update(goal_kind="image", success_radius=args.success_radius)
     return task
 
 
@@ -370,6 +380,7 @@ def main(argv: list[str] | None = None, prog: str = "placeclust errands") -> int
         check_agent(args.agent, args.policy)
         params = recognizer_params([args.recognizer], args.preset, args.param)
         task = task_from_args(args)
+        check_goals(args.agent, task)
         if task.get("errand_learn") is False and not localizes(args.recognizer,
                                                                 params[args.recognizer]):
             raise ValueError(f"{args.recognizer} cannot localize on a fixed map (no "

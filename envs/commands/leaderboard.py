@@ -42,6 +42,7 @@ from typing import Any
 
 from placeclust.docs_section import write_section
 
+from ..agents.errands import check_goals
 from ..tasks.recognizers import localizes
 from ..world.splits import add_scope_arguments, scope_seeds
 from .closed_loop import (
@@ -72,11 +73,16 @@ from .suite import SIZES, SUITES, TRACKS, get_suite, provenance
 def leaderboard(summaries: list[dict[str, Any]]) -> str:
     """The summaries (:func:`~envs.commands.results.summarize`) as a markdown table, best
     first: each figure a mean with its 95% interval over buildings."""
-    lines = ["| recognizer | success | SPL | worst building | steps per errand | precision | "
-             "NMI | places per room |", "|---|---|---|---|---|---|---|---|"]
+    # image goals (PlaceNav-ImageGoal-v0) add the walking distance left at the errand's end
+    left = all("final_distance" in s for s in summaries)
+    lines = ["| recognizer | success | SPL |" + (" final distance (m) |" if left else "")
+             + " worst building | steps per errand | precision | NMI | places per room |",
+             "|---|---|---|---|---|---|---|---|" + ("---|" if left else "")]
     for s in sorted(summaries, key=lambda s: -s["success_rate"]):
         lines.append(f"| {s['recognizer']} | {interval_text(s, 'success_rate')} | "
-                     f"{interval_text(s, 'spl')} | {s['worst_scene_success']:.2f} | "
+                     f"{interval_text(s, 'spl')} | "
+                     + (f"{interval_text(s, 'final_distance')} | " if left else "")
+                     + f"{s['worst_scene_success']:.2f} | "
                      f"{s['mean_length']:.0f} | {interval_text(s, 'precision', 3)} | "
                      f"{interval_text(s, 'nmi', 3)} | {interval_text(s, 'places_per_room')} |")
     return "\n".join(lines)
@@ -154,7 +160,7 @@ def _settings(args: argparse.Namespace, p: argparse.ArgumentParser, argv: list[s
     fixed = [o for o in ("--split", "--scene-seeds", "--n-scenes", "--rooms",
                          "--goals-per-scene", "--seed", "--tour-steps-per-room",
                          "--errand-start", "--layout", "--doors", "--local-light", "--track",
-                         "--localize-only")
+                         "--localize-only", "--goal-kind", "--success-radius")
              if any(a == o or a.startswith(o + "=") for a in argv)]
     if fixed:
         p.error(f"the suite {args.suite} fixes {' '.join(fixed)}; leave them out, or "
@@ -214,9 +220,13 @@ def main(argv: list[str] | None = None, prog: str = "placeclust leaderboard"
     argv = sys.argv[1:] if argv is None else list(argv)
     args = p.parse_args(argv)
     settings = _settings(args, p, argv)
+    images = any(st["task"].get("goal_kind") == "image" for st in settings.values())
+    if images and not any(a.startswith("--recognizers") for a in argv):
+        args.recognizers = ["oracle-pose", *args.recognizers]  # image goals' ceiling
     localize = any(st["task"].get("errand_learn") is False for st in settings.values())
     try:
         check_agent(args.agent, args.policy)
+        check_goals(args.agent, {}, {str(t): st["task"] for t, st in settings.items()})
         params = recognizer_params(args.recognizers, args.preset, args.param)
         skipped = [r for r in args.recognizers if localize and not localizes(r, params[r])]
         args.recognizers = [r for r in args.recognizers if r not in skipped]
@@ -246,10 +256,12 @@ def main(argv: list[str] | None = None, prog: str = "placeclust leaderboard"
                                                 args.recognizers,
                                                 **({"skipped": skipped} if skipped else {})},
                 out, track)
-    if several and {"none", "oracle"} <= set(args.recognizers):
+    # image goals' ceiling knows the goal's pose; room goals' is the true rooms
+    ceiling = "oracle-pose" if images else "oracle"
+    if several and {"none", ceiling} <= set(args.recognizers):
         try:
             print("\n" + score_table(load_tracks([args.out / str(t) / "results.json"
-                                                   for t in by_track]), "none", "oracle",
+                                                   for t in by_track]), "none", ceiling,
                                      "mean")[0])
         except ValueError as e:  # the runs are kept: only the score cannot be formed
             print(f"no suite score: {e}", file=sys.stderr)

@@ -29,7 +29,10 @@ FORMAT = "placeclust-results/1"
 #: per-errand figures (one value per errand) and per-tour ones (one per building)
 ERRAND_METRICS = ("success_rate", "spl", "mean_length")
 TOUR_METRICS = ("precision", "nmi", "n_places", "places_per_room")
-_ERRAND_KEY = {"success_rate": "success", "spl": "spl", "mean_length": "steps"}
+#: image goals' errands also record the walking distance (m) left when they ended
+GOAL_METRICS = ("final_distance",)
+_ERRAND_KEY = {"success_rate": "success", "spl": "spl", "mean_length": "steps",
+               "final_distance": "final_distance"}
 #: the half-widths a full-size suite is sized for (docs/design.md, "How many buildings")
 TARGET_HALF_WIDTH = {"success_rate": 0.05, "spl": 0.05, "precision": 0.01}
 
@@ -42,7 +45,7 @@ def groups(rows: list[dict[str, Any]], metric: str) -> list[list[float]]:
     if metric in TOUR_METRICS:
         return [[float(r[metric])] for r in rows]
     raise ValueError(f"unknown metric {metric!r}; choose one of "
-                     f"{ERRAND_METRICS + TOUR_METRICS}")
+                     f"{ERRAND_METRICS + GOAL_METRICS + TOUR_METRICS}")
 
 
 def estimate(rows: list[dict[str, Any]], metric: str) -> Estimate:
@@ -65,7 +68,8 @@ def summarize(rows: list[dict[str, Any]]) -> dict[str, Any]:
         "worst_scene_success": float(min(r["success_rate"] for r in rows)),
         "seconds": float(sum(r["seconds"] for r in rows)),
     }
-    for metric in ERRAND_METRICS + TOUR_METRICS:
+    goal = GOAL_METRICS if all("final_distance" in e for e in errands) else ()
+    for metric in ERRAND_METRICS + goal + TOUR_METRICS:
         est = estimate(rows, metric)
         out[metric], out[f"{metric}_interval"] = est.mean, [est.low, est.high]
         if metric in TARGET_HALF_WIDTH and len(rows) >= 2:

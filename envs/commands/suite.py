@@ -18,6 +18,8 @@ Examples:
     >>> v2 = SUITES["placenav-v2"]  # every track, each on its own buildings
     >>> v2.agent, len(v2.scene_seeds("full", "long")), v2.scene_seeds("quick", "carried")
     ('relocalizer', 4, [2000])
+    >>> SUITES["placenav-v3"].task("full", "carried")["goal_kind"]  # errands to pictures
+    'image'
     >>> track_task("changed-night")
     {'local_light': True, 'errand_condition': 'night'}
     >>> track_task("carried", errand_learn=False)
@@ -68,6 +70,8 @@ class Suite:
         tracks: ``(track, buildings)`` pairs: the :data:`TRACKS` it runs, each on the first
             ``buildings`` of ``split`` at full size and ``n_quick`` at the quick size (``long``
             is then a track, not a size); none: one set of errands on ``n_buildings`` (v1).
+        errands: ``(argument, value)`` pairs every track's errands add (v3: image goals,
+            ``goal_kind`` and ``success_radius``); none: errands to named rooms.
     """
 
     name: str
@@ -84,6 +88,7 @@ class Suite:
     metrics: tuple[str, ...] = ("success_rate", "spl", "precision", "nmi", "places_per_room")
     agent: str = "planner"
     tracks: tuple[tuple[str, int], ...] = ()
+    errands: tuple[tuple[str, Any], ...] = ()
 
     @property
     def sizes(self) -> tuple[str, ...]:
@@ -117,7 +122,8 @@ class Suite:
             if track not in self.track_names:
                 raise ValueError(f"{self.name} runs its tracks one by one: name one of "
                                  f"{self.track_names}")
-            return {"tour_steps_per_room": self.tour_steps_per_room, **track_task(track)}
+            return {"tour_steps_per_room": self.tour_steps_per_room, **track_task(track),
+                    **dict(self.errands)}
         steps = self.long_tour_steps_per_room if size == "long" else self.tour_steps_per_room
         return {"tour_steps_per_room": steps}
 
@@ -142,6 +148,19 @@ SUITES: Mapping[str, Suite] = MappingProxyType({
                                  ("changed-cloudy", 12), ("changed-moved", 12),
                                  ("carried", 12), ("corridor", 12), ("corridor-carried", 12),
                                  ("long", 4))),
+    # v2's tracks with errands to pictures of spots (PlaceNav-ImageGoal-v0, the spot agent):
+    # a map that knows the spot is worth more than one that knows the room. Success within
+    # 1 m, Habitat ImageNav's radius, chosen on the val pilot (docs/design.md, "placenav-v3")
+    "placenav-v3": Suite(name="placenav-v3", env_id="PlaceNav-ImageGoal-v0", split="test",
+                         n_buildings=12, n_quick=1, n_long=4, n_rooms=6, goals=5, seed=0,
+                         tour_steps_per_room=150, long_tour_steps_per_room=500,
+                         agent="spot", metrics=("success_rate", "spl", "final_distance",
+                                                "precision", "nmi", "places_per_room"),
+                         tracks=(("continued", 12), ("changed-night", 12),
+                                 ("changed-cloudy", 12), ("changed-moved", 12),
+                                 ("carried", 12), ("corridor", 12), ("corridor-carried", 12),
+                                 ("long", 4)),
+                         errands=(("goal_kind", "image"), ("success_radius", 1.0))),
 })
 
 

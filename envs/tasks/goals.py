@@ -32,12 +32,9 @@ from ..world.layout import FloorPlan
 from .place_nav import PlaceNavEnv
 
 
-def door_distances(plan: FloorPlan, goal: int) -> dict[int, float]:
-    """Shortest walking distance (m) from each door's centre to the goal room, through doors.
-
-    Doors are the nodes of a graph whose edges join two doors of the same room, weighted by the
-    straight line between their centres; the doors of the goal room are at distance 0.
-    """
+def door_graph(plan: FloorPlan) -> nx.Graph:
+    """The doors as a graph: an edge joins two doors of the same room, weighted by the straight
+    line (m) between their centres."""
     g = nx.Graph()
     g.add_nodes_from(range(len(plan.doors)))
     for i, a in enumerate(plan.doors):
@@ -45,6 +42,14 @@ def door_distances(plan: FloorPlan, goal: int) -> dict[int, float]:
             b = plan.doors[j]
             if set(a.rooms) & set(b.rooms):
                 g.add_edge(i, j, weight=math.dist((a.x, a.y), (b.x, b.y)))
+    return g
+
+
+def door_distances(plan: FloorPlan, goal: int) -> dict[int, float]:
+    """Shortest walking distance (m) from each door's centre to the goal room, through doors
+    (:func:`door_graph`); the doors of the goal room are at distance 0.
+    """
+    g = door_graph(plan)
     sources = {i for i, d in enumerate(plan.doors) if goal in d.rooms}
     return dict(nx.multi_source_dijkstra_path_length(g, sources)) if sources else {}
 

@@ -24,7 +24,6 @@ from __future__ import annotations
 
 import copy
 import math
-import string
 from collections.abc import Mapping
 from typing import Any
 
@@ -37,16 +36,15 @@ from placeclust.protocol import reads_images, resolve
 
 from ..world.changes import clear_pose
 from ..world.conditions import CONDITION_KEYS, CONDITIONS
-from .errand_draws import carry, check_errands, draw_goal
-from .goals import GoalRoom, NavTask
+from .errand_draws import carry, check_errands
+from .errand_goals import Goal, RoomGoals, make_goals
+from .goals import NavTask
 from .oracles import BoundTrueRooms, TrueRooms
 from .place_id import PlaceIdWrapper, Recognizer
 from .place_nav import PlaceNavEnv
-from .recognizers import make_recognizer
+from .recognizers import RecognizerName, parse_recognizer
 from .records import Errand, TourRecord, TourState
 from .tour import guided_tour
-
-NAME_CHARSET = frozenset(string.ascii_lowercase + string.digits + " -_")
 
 
 class GuidedTourEnv(NavTask, gym.utils.EzPickle):
@@ -110,6 +108,9 @@ class GuidedTourEnv(NavTask, gym.utils.EzPickle):
     in the same building under it, from the tour's last pose, moved a little if furniture now
     stands there), ``errand_learn`` (True: the map keeps learning during the errands; False:
     it only localizes, ``localize_one``, which a recognizer that reads images must have),
+    ``goal_kind`` (``"room"``; ``"image"``: errands to a picture of a spot,
+    :class:`~envs.tasks.errand_goals.ImageGoals`, registered as ``PlaceNav-ImageGoal-v0``),
+    ``success_radius`` (1 m: an image goal's success, as Habitat's ImageNav),
     ``observe_image`` (False), ``render_mode``, and any argument of
     ``PlaceNav-v0`` (``scene_seed``, ``n_rooms`` (default 6 here), ``camera``: the forward
     camera for ``nested``, the panorama otherwise).
@@ -121,7 +122,19 @@ class GuidedTourEnv(NavTask, gym.utils.EzPickle):
     map as the tour made it, the episode's draws (goals, carries) as after that tour; its
     errands are those the same reset with a tour of its own gives.
 
+    ## Image goals
+    With ``goal_kind="image"`` (``PlaceNav-ImageGoal-v0``) each errand's goal is a picture taken
+    near the tour's route under the errands' condition (:mod:`envs.tasks.errand_goals`). The
+    observation's ``goal`` is replaced by ``goal_place`` (the place the recognizer gives the
+    picture; ``max_places``: unknown), ``goal_step`` (the tour step nearest the goal, known
+    only to ``oracle-pose``, the ceiling; else its space's largest value) and ``errand`` (its
+    index). The action gains a third entry: above 0 the agent declares arrival, which ends the
+    errand, a success within ``success_radius`` metres of walking of the goal. The reward
+    shapes on the walking distance to the goal's point. Each errand's record adds
+    ``final_distance``, ``goal_place`` and ``goal_step``.
+
     ## Version History
+    - ImageGoal-v0 (placeclust 0.16.0): image goals, as above.
     - v1 (placeclust 0.13.0): errands start at least ``min_errand_distance`` (1 m) of
       walking from their goal room. The recognizers ``online`` and ``online-orb`` are named
       ``panorama`` and ``panorama-orb``, after their presets; ``recognizer`` also takes a
@@ -140,7 +153,8 @@ class GuidedTourEnv(NavTask, gym.utils.EzPickle):
                  observe_image: bool = False, render_mode: str | None = None, n_rooms: int = 6,
                  recognizer_params: Mapping[str, Any] | None = None,
                  errand_start: str = "continue", errand_condition: str | None = None,
-                 errand_learn: bool = True, **world: Any) -> None:
+                 errand_learn: bool = True, goal_kind: str = "room",
+                 success_radius: float = 1.0, **world: Any) -> None:
         # pickle and deepcopy rebuild the env from its arguments, as PlaceNav-v0 does
         gym.utils.EzPickle.__init__(
             self, recognizer=recognizer, recognizer_params=recognizer_params,
@@ -150,7 +164,7 @@ class GuidedTourEnv(NavTask, gym.utils.EzPickle):
             success_reward=success_reward, step_cost=step_cost, shaping=shaping,
             observe_image=observe_image, render_mode=render_mode, n_rooms=n_rooms,
             errand_start=errand_start, errand_condition=errand_condition,
-            errand_learn=errand_learn, **world)
+            errand_learn=errand_learn, goal_kind=goal_kind, success_radius=success_radius, **world)
         check_errands(n_errands, errand_steps, tour_steps_per_room, name_after,
                       min_errand_distance, errand_start, n_rooms)
         if recognizer_params and not isinstance(recognizer, str):
@@ -159,13 +173,18 @@ class GuidedTourEnv(NavTask, gym.utils.EzPickle):
         if errand_condition is not None and errand_condition not in CONDITIONS:
             raise ValueError(f"unknown errand_condition {errand_condition!r}; choose one of "
                              f"{sorted(CONDITIONS)} or None (the tour's)")
-        built = (make_recognizer(recognizer, n_rooms, max_places, recognizer_params)
-                 if isinstance(recognizer, str) else recognizer)
+        parsed: RecognizerName | None = None
+        built: Recognizer | TrueRooms
+        if isinstance(recognizer, str):  # one parse: what it builds and the camera it reads
+            parsed = parse_recognizer(recognizer)
+            built = parsed.build(n_rooms, max_places, recognizer_params)
+        else:
+            built = recognizer
         #: the true rooms (``oracle`` and its calibration family), or None for a recognizer
         self.truth: TrueRooms | None = built if isinstance(built, TrueRooms) else None
         self._truth: BoundTrueRooms | None = None
         model = None if isinstance(built, TrueRooms) else built
-        world.setdefault("camera", "forward" if recognizer == "nested" else "panorama")
+        world.setdefault("camera", "panorama" if parsed is None else parsed.camera)
         # a recognizer that reads no images (random, none) gets none rendered: the same ids
         looks = model is not None and reads_images(model)
         nav = PlaceNavEnv(n_rooms=n_rooms, render_mode=render_mode,
@@ -193,19 +212,24 @@ class GuidedTourEnv(NavTask, gym.utils.EzPickle):
         self.errand_start = errand_start
         self.max_places = max_places
         self.observe_image = observe_image
-        self.goal_room = GoalRoom(self.plan, success_reward, step_cost, shaping)
+        self._errands: list[Errand] = []
+        self._tour_rooms = np.zeros(0, np.int64)
+        self._tour_poses = np.zeros((0, 3))
+        #: what the errands ask for: a named room, or a picture of a spot (errand_goals)
+        self.goals: RoomGoals = make_goals(goal_kind, self, success_reward, step_cost, shaping,
+                                           success_radius)
+        self.goal_room = self.goals.goal_room
         keep = ("odometry", "heading", "ranges") + ((nav.image_key,) if observe_image else ())
         self.observation_space = spaces.Dict({
-            "place_id": spaces.Discrete(max_places + 1),
-            "goal": spaces.Text(40, min_length=1, charset=NAME_CHARSET),
+            "place_id": spaces.Discrete(max_places + 1), **self.goals.spaces(),
             **{k: nav.observation_space[k] for k in keep}})
-        self.action_space = nav.action_space
+        # an image goal's errand ends when the agent says it has arrived (ImageNav's STOP)
+        self.action_space = nav.action_space if goal_kind == "room" else spaces.Box(
+            -1.0, 1.0, (3,), np.float32)
         self._named: list[str] = []
         self._goals: list[str] = []
-        self._errands: list[Errand] = []
         self._over = True  # until the first reset
         self._pose = np.zeros(3)
-        self._tour_rooms = np.zeros(0, np.int64)
         self._room = 0  # the last room the robot was in (a doorway is in none)
 
     @property
@@ -218,6 +242,22 @@ class GuidedTourEnv(NavTask, gym.utils.EzPickle):
         """The true room of each step of the last tour (-1 in a doorway): ground truth, for
         scoring and for agents that are given it (the oracle), never in the observation."""
         return self._tour_rooms
+
+    @property
+    def tour_poses(self) -> np.ndarray:
+        """(T, 3) the robot's true pose at each step of the last tour: ground truth, where
+        image goals are drawn, never in the observation."""
+        return self._tour_poses
+
+    @property
+    def errands(self) -> list[Errand]:
+        """This episode's errands so far, the current one last."""
+        return self._errands
+
+    @property
+    def bound_truth(self) -> BoundTrueRooms | None:
+        """The true rooms bound to this building (``oracle`` and its family), else None."""
+        return self._truth
 
     @property
     def recognizer(self) -> Recognizer | None:
@@ -264,18 +304,24 @@ class GuidedTourEnv(NavTask, gym.utils.EzPickle):
              ) -> tuple[dict[str, Any], float, bool, bool, dict[str, Any]]:
         if self._over:
             raise RuntimeError("the episode is over; call reset()")
-        obs, _, _, _, info = self._env.step(action)
+        action = np.asarray(action)
+        if action.shape != self.action_space.shape:
+            raise ValueError(f"action must have shape {self.action_space.shape} (forward, turn"
+                             + (", stop)" if self.goals.kind == "image" else ")")
+                             + f", got {action.shape}")
+        obs, _, _, _, info = self._env.step(action[:2])
         self._read_place(info)
         errand = self._errands[-1]
         errand.steps += 1
         errand.path += math.dist(self._pose[:2], info["pose"][:2])
         self._pose = info["pose"]
-        reward, success = self.goal_room.step(info["pose"], info["room_id"],
-                                              room=self._last_room(info))
+        room = self._last_room(info)
+        reward, ended, success = self.goals.step(action, info["pose"], info["room_id"], room)
         out = self._step_info(info)
         terminated = False
-        if success or errand.steps >= self.errand_steps:
+        if ended or errand.steps >= self.errand_steps:
             errand.success = bool(success)
+            errand.extra = self.goals.outcome(info["pose"], room)
             out.update(errand_result=errand.as_dict(), is_success=errand.success)
             if len(self._errands) == self.n_errands:
                 terminated = self._over = True
@@ -305,7 +351,8 @@ class GuidedTourEnv(NavTask, gym.utils.EzPickle):
         return TourState(tour, copy.deepcopy(self.recognizer),
                          copy.deepcopy(self._truth), self._tour_rooms.copy(),
                          self._tour_end.copy(), self._tour_room, self.nav.snapshot(),
-                         copy.deepcopy(obs), copy.deepcopy(info), self._place)
+                         copy.deepcopy(obs), copy.deepcopy(info), self._place,
+                         self._tour_poses.copy())
 
     def _resume(self, state: TourState) -> tuple[TourRecord, dict, dict]:
         """Start from ``state`` instead of a tour: its map, and the simulator as the tour left
@@ -317,6 +364,7 @@ class GuidedTourEnv(NavTask, gym.utils.EzPickle):
             self._place_ids.recognizer = copy.deepcopy(state.recognizer)
         self._truth = copy.deepcopy(state.truth)
         self._tour, self._tour_rooms = state.record, state.rooms.copy()
+        self._tour_poses = np.zeros((0, 3)) if state.poses is None else state.poses.copy()
         self._tour_end, self._tour_room = state.pose.copy(), state.room
         self._room, self._place = state.room, state.place
         self._tour_state = state
@@ -355,9 +403,16 @@ class GuidedTourEnv(NavTask, gym.utils.EzPickle):
 
     def _guided_tour(self, tour_seed: int) -> tuple[TourRecord, dict, dict]:
         """Drive the tour (:func:`~envs.tasks.tour.guided_tour`) and keep what it leaves."""
+        poses: list[np.ndarray] = []
+
+        def read(info: dict[str, Any]) -> int:  # the true poses, where image goals are drawn
+            poses.append(info["pose"])
+            return self._read_place(info)
+
         record, rooms, obs, info = guided_tour(
-            self._env, self.plan, self._read_place, self.tour_steps_per_room, self.name_after,
+            self._env, self.plan, read, self.tour_steps_per_room, self.name_after,
             tour_seed, self.nav.model.opt.timestep * self.nav.n_substeps)
+        self._tour_poses = np.array(poses, float).reshape(-1, 3)
         if self.recognizer is not None:
             record.place_id = resolve(self.recognizer, record.place_id)
         inside = rooms[rooms >= 0]
@@ -376,24 +431,16 @@ class GuidedTourEnv(NavTask, gym.utils.EzPickle):
 
     def _start_errand(self, obs: dict[str, Any], info: dict[str, Any]
                       ) -> tuple[dict[str, Any], dict[str, Any]]:
-        """Draw the next errand's goal (and, if carried, its start); the observation and info
-        the errand starts from."""
-        k = len(self._errands)
+        """Draw the next errand's goal (:attr:`goals`) and, if carried, its start; the
+        observation and info the errand starts from."""
         room = self._last_room(info)
-        carried = self.errand_start == "carried"
-        if k < len(self._goals):
-            goal, redrawn = self._goals[k], False
-        elif carried:  # any named room: the start is drawn away from it
-            goal, redrawn = self._named[int(self.np_random.integers(len(self._named)))], False
-        else:
-            goal, redrawn = draw_goal(self.np_random, self.goal_room, self._named, info["pose"],
-                                      room, self.min_errand_distance)
-        goal_id = self.plan.room_by_name(goal).id
-        if carried:
-            obs, info = self._carry(goal_id)
+        goal: Goal = self.goals.draw(self, len(self._errands), info, room, self._named,
+                                     self._goals)
+        if self.errand_start == "carried":
+            obs, info = self._carry(goal.room)
             room, self._pose = self._last_room(info), info["pose"]
-        self._errands.append(Errand(goal, redrawn=redrawn))
-        self._errands[-1].shortest = self.goal_room.start(goal_id, info["pose"], room=room)
+        self._errands.append(Errand(goal.name, redrawn=goal.redrawn))
+        self._errands[-1].shortest = self.goals.start(goal, info["pose"], room)
         return obs, info
 
     def _carry(self, goal: int) -> tuple[dict[str, Any], dict[str, Any]]:
@@ -426,7 +473,7 @@ class GuidedTourEnv(NavTask, gym.utils.EzPickle):
     def _observation(self, obs: dict[str, Any], info: dict[str, Any]) -> dict[str, Any]:
         raw = self._place
         place = raw if 0 <= raw < self.max_places else self.max_places
-        out = {"place_id": np.int64(place), "goal": self._errands[-1].goal}
+        out = {"place_id": np.int64(place), **self.goals.observe(self)}
         keys = [k for k in self.observation_space.spaces if k not in out]
         return {**out, **{k: obs[k] for k in keys}}
 

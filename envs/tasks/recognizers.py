@@ -12,6 +12,7 @@ Examples:
 from __future__ import annotations
 
 from collections.abc import Mapping
+from dataclasses import dataclass
 from typing import Any
 
 from placeclust import PANORAMA, PANORAMA_ORB, OnlinePlaceClustering
@@ -20,11 +21,13 @@ from placeclust.null import NoPlaces, RandomPlaces
 from placeclust.protocol import can_localize, is_offline, reads_images
 from placeclust.runner import check_params, make, recognizer_class
 
-from .oracles import TrueRooms, is_oracle_name, parse_oracle
+from .oracles import KINDS, TrueRooms, is_oracle_name, parse_oracle
 from .place_id import Recognizer
 
-#: recognizers by name: ``oracle`` gives the true room (the upper bound; its calibration family
-#: ``oracle-noise:P``, ``oracle-split:K``, ``oracle-merge:P`` errs by a known amount,
+#: recognizers by name: ``oracle`` gives the true room (the upper bound of room errands; its
+#: calibration family ``oracle-noise:P``, ``oracle-split:K``, ``oracle-merge:P``,
+#: ``oracle-cells:K``, ``oracle-door:D``, ``oracle-revisit:P`` errs by a known amount, and
+#: ``oracle-pose``, the ceiling of image goals, knows the goal's pose too,
 #: :mod:`envs.tasks.oracles`); ``panorama`` is seed
 #: 000's online recognizer in its 360° configuration with SIFT (the preset ``panorama``,
 #: :data:`placeclust.PANORAMA`), ``panorama-orb`` in ORB's (the preset ``panorama-orb``,
@@ -34,6 +37,72 @@ from .place_id import Recognizer
 RECOGNIZERS = ("oracle", "panorama", "panorama-orb", "nested", "random", "none")
 #: the names these recognizers had before placeclust 0.13.0, for the error that says so
 RENAMED = {"online": "panorama", "online-orb": "panorama-orb"}
+
+
+@dataclass(frozen=True)
+class RecognizerName:
+    """A closed-loop recognizer's name, parsed once (:func:`parse_recognizer`): which kind it
+    is and what it needs, so that no caller dispatches on the name again.
+
+    Attributes:
+        name: as given.
+        kind: ``"builtin"`` (one of :data:`RECOGNIZERS`), ``"oracle"`` (the true rooms or a
+            calibration oracle, :mod:`envs.tasks.oracles`) or ``"own"``
+            (``package.module:Class``).
+        oracle: the :class:`~envs.tasks.oracles.TrueRooms` of an oracle name, else None.
+    """
+
+    name: str
+    kind: str
+    oracle: TrueRooms | None = None
+
+    @property
+    def camera(self) -> str:
+        """The camera it reads: ``nested`` (seed 001) the forward one, the rest the panorama."""
+        return "forward" if self.name == "nested" else "panorama"
+
+    def build(self, n_rooms: int, max_places: int = 64,
+              params: Mapping[str, Any] | None = None) -> Recognizer | TrueRooms:
+        """A fresh recognizer (:func:`make_recognizer`)."""
+        params = dict(params or {})
+        if self.kind == "own":
+            return _own_recognizer(self.name, params)
+        if params:
+            raise ValueError(f"{self.name!r} is one configuration and takes no parameters, "
+                             f"got {sorted(params)}; give package.module:Class with them "
+                             "instead")
+        if self.oracle is not None:
+            return self.oracle
+        if self.name == "panorama":
+            return OnlinePlaceClustering("sift", **PANORAMA, max_places=max_places)
+        if self.name == "panorama-orb":
+            return OnlinePlaceClustering("orb", **PANORAMA_ORB, max_places=max_places)
+        if self.name == "nested":
+            return NestedMapper()
+        if self.name == "random":
+            return RandomPlaces(n_ids=2 * n_rooms)
+        return NoPlaces()
+
+
+def parse_recognizer(name: str) -> RecognizerName:
+    """The one parse of a closed-loop recognizer's name.
+
+    Raises:
+        ValueError: a name that is none of :data:`RECOGNIZERS`, an oracle name with a value
+            out of range, or a ``package.module:Class`` that does not load; the line names the
+            choices.
+    """
+    if name in RECOGNIZERS and name != "oracle":
+        return RecognizerName(name, "builtin")
+    if is_oracle_name(name) or name.startswith("oracle-"):
+        return RecognizerName(name, "oracle", parse_oracle(name))  # says what is wrong
+    if ":" in name:
+        recognizer_class(name)  # a ValueError naming a path or class that does not load
+        return RecognizerName(name, "own")
+    hint = f" ('{name}' was renamed '{RENAMED[name]}' in 0.13.0)" if name in RENAMED else ""
+    raise ValueError(f"unknown recognizer {name!r}; choose one of {RECOGNIZERS}, "
+                     f"oracle-pose, oracle-KIND:VALUE (KIND one of {', '.join(KINDS)}) or "
+                     f"give package.module:Class{hint}")
 
 
 def is_own(name: str) -> bool:
@@ -49,9 +118,9 @@ def make_recognizer(name: str, n_rooms: int, max_places: int = 64,
 
     Args:
         name: one of :data:`RECOGNIZERS`, an ``oracle-<kind>:<value>`` (a calibration
-            oracle), or ``package.module:Class``, an online recognizer of your own
-            (``learn_predict_one``, ``n_places``, ``graph``; see :mod:`placeclust.checks`),
-            loaded as ``placeclust cluster --algo`` loads it.
+            oracle) or ``oracle-pose``, or ``package.module:Class``, an online recognizer of
+            your own (``learn_predict_one``, ``n_places``, ``graph``; see
+            :mod:`placeclust.checks`), loaded as ``placeclust cluster --algo`` loads it.
         n_rooms: the building's rooms (``random`` draws ids from twice as many).
         max_places: the cap of ``panorama`` and ``panorama-orb``'s maps.
         params: a module path's constructor arguments (``features`` included). A name is one
@@ -62,24 +131,7 @@ def make_recognizer(name: str, n_rooms: int, max_places: int = 64,
         ValueError: an unknown name, a path that does not load or is not an online recognizer,
             or parameters with a name.
     """
-    params = dict(params or {})
-    if is_own(name):
-        return _own_recognizer(name, params)
-    check_recognizer_name(name)
-    if params:
-        raise ValueError(f"{name!r} is one configuration and takes no parameters, got "
-                         f"{sorted(params)}; give package.module:Class with them instead")
-    if is_oracle_name(name):
-        return parse_oracle(name)
-    if name == "panorama":
-        return OnlinePlaceClustering("sift", **PANORAMA, max_places=max_places)
-    if name == "panorama-orb":
-        return OnlinePlaceClustering("orb", **PANORAMA_ORB, max_places=max_places)
-    if name == "nested":
-        return NestedMapper()
-    if name == "random":
-        return RandomPlaces(n_ids=2 * n_rooms)
-    return NoPlaces()
+    return parse_recognizer(name).build(n_rooms, max_places, params)
 
 
 def _own_recognizer(path: str, params: dict[str, Any]) -> Recognizer:
@@ -96,22 +148,9 @@ def _own_recognizer(path: str, params: dict[str, Any]) -> Recognizer:
 
 
 def check_recognizer_name(name: str) -> None:
-    """A ``ValueError`` naming the choices if ``name`` is neither one of :data:`RECOGNIZERS` nor
-    a ``package.module:Class`` that loads."""
-    if name in RECOGNIZERS:
-        return
-    if is_oracle_name(name):
-        parse_oracle(name)  # a value out of range
-        return
-    if name.startswith("oracle-"):
-        parse_oracle(name)  # names the family's form
-    if ":" in name:
-        recognizer_class(name)
-        return
-    hint = f" ('{name}' was renamed '{RENAMED[name]}' in 0.13.0)" if name in RENAMED else ""
-    raise ValueError(f"unknown recognizer {name!r}; choose one of {RECOGNIZERS}, "
-                     f"oracle-noise:P, oracle-split:K, oracle-merge:P or give "
-                     f"package.module:Class{hint}")
+    """A ``ValueError`` naming the choices if ``name`` is neither one of :data:`RECOGNIZERS`, an
+    oracle name, nor a ``package.module:Class`` that loads (:func:`parse_recognizer`)."""
+    parse_recognizer(name)
 
 
 def localizes(name: str, params: Mapping[str, Any] | None = None) -> bool:

@@ -5,7 +5,7 @@
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from typing import Any
 
 import numpy as np
@@ -64,6 +64,8 @@ class TourState:
             streams), so that the errands go on as after the tour itself.
         observation, info: the tour's last frame, as the tour's world returned it.
         place: the raw place of that frame.
+        poses: (T, 3) the robot's true pose at each tour step (None in a state kept before
+            0.16.0), where image goals are drawn.
     """
 
     record: TourRecord
@@ -76,12 +78,15 @@ class TourState:
     observation: dict[str, Any]
     info: dict[str, Any]
     place: int
+    poses: np.ndarray | None = None
 
 
 @dataclass
 class Errand:
     """One errand's outcome: ``success``, ``steps``, ``path`` driven and ``shortest`` walking
-    distance (m) from its start to the goal room, and ``spl`` (Anderson et al. 2018)."""
+    distance (m) from its start to the goal room, and ``spl`` (Anderson et al. 2018); ``extra``
+    what the errand's kind of goal adds (an image goal: ``final_distance``, the walking
+    distance (m) left when it ended, and the goal's place and tour step)."""
 
     goal: str
     success: bool = False
@@ -89,6 +94,7 @@ class Errand:
     path: float = 0.0
     shortest: float = 0.0
     redrawn: bool = False
+    extra: dict[str, Any] = field(default_factory=dict)
 
     @property
     def spl(self) -> float:
@@ -97,4 +103,4 @@ class Errand:
     def as_dict(self) -> dict[str, Any]:
         return {"goal": self.goal, "success": self.success, "steps": self.steps,
                 "path": self.path, "shortest": self.shortest, "spl": self.spl,
-                "redrawn": self.redrawn}
+                "redrawn": self.redrawn, **self.extra}

@@ -88,6 +88,8 @@ TRACK_NAMES = ("continued", "changed-night", "changed-cloudy", "changed-moved", 
 #: after a longer tour (which traced would take minutes)
 SUITE_OPTIONS = {"placenav-v1": "--agent planner",
                  "placenav-v2": "--agent relocalizer --track " + " ".join(
+                     t for t in TRACK_NAMES if t != "long"),
+                 "placenav-v3": "--agent spot --goal-kind image --track " + " ".join(
                      t for t in TRACK_NAMES if t != "long")}
 #: options that take no value (``--latency-sizes`` may take none, and is replaced anyway)
 _FLAGS = {"--quick", "--quiet", "--localize-only", "--force", "--alone"}

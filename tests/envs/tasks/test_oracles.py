@@ -106,3 +106,58 @@ def test_a_calibration_name_says_its_kind_and_size_of_error():
     assert error_of("oracle-split:2") == ("split", 2.0)
     assert error_of("oracle") is None and error_of("panorama") is None
     assert error_of("mypackage.module:Mine") is None
+
+
+@pytest.mark.parametrize("k", [2, 4, 6])
+def test_cells_cut_each_room_into_k_compact_places(plan, k):
+    truth = TrueRooms(cells=k).bind(plan, seed=0)
+    rooms, poses = _walk(plan)
+    ids = np.array([truth.place(int(r), p) for r, p in zip(rooms, poses)])
+    assert score(ids, rooms)["precision"] == 1.0 and truth.n_places == k * len(plan.rooms)
+    for room in plan.rooms:  # compact: no cell much longer than it is wide
+        for cell in set(ids[rooms == room.id].tolist()):
+            xy = np.array([p[:2] for p, i in zip(poses, ids) if i == cell])
+            w, h = np.ptp(xy, axis=0)
+            side = min(room.x1 - room.x0, room.y1 - room.y0)
+            assert max(w, h) <= max(2.2 * min(w, h), side * 1.01)
+
+
+def test_door_lag_reports_the_room_left_until_the_robot_is_far_enough_in(plan):
+    door = plan.doors[0]
+    a, b = door.rooms
+    truth = TrueRooms(door=1.0).bind(plan, seed=0)
+    ca, cb = plan.rooms[a].center, plan.rooms[b].center
+    assert truth.place(a, (*ca, 0.0)) == a
+    near = np.add((door.x, door.y), 0.5 * np.subtract(cb, (door.x, door.y))
+                  / np.linalg.norm(np.subtract(cb, (door.x, door.y))))
+    assert truth.place(b, (*near, 0.0)) == a  # 0.5 m past the door: still the room left
+    far = np.add((door.x, door.y), 1.5 * np.subtract(cb, (door.x, door.y))
+                 / np.linalg.norm(np.subtract(cb, (door.x, door.y))))
+    if plan.room_at(*far) == b:
+        assert truth.place(b, (*far, 0.0)) == b
+    assert truth.place(b, (*near, 0.0)) == b  # the lag ended: it does not come back
+    truth.reset_position()
+    assert truth.place(b, (*near, 0.0)) == b  # carried there: no room was left
+
+
+def test_a_revisit_opens_a_place_of_its_own(plan):
+    truth = TrueRooms(revisit=1.0).bind(plan, seed=0)
+    a, b = plan.rooms[0].center, plan.rooms[1].center
+    first = truth.place(0, (*a, 0.0))
+    assert truth.place(1, (*b, 0.0)) == 1
+    again = truth.place(0, (*a, 0.0))
+    assert first == 0 and again >= truth.n_places  # a new id, beyond the rooms' own
+    assert truth.place(0, (*a, 0.0)) == again  # for the whole visit
+    assert truth.goal(0, (*a, 0.0)) == 0  # a goal picture gets the room's own place
+
+
+def test_the_new_kinds_parse_and_name_back():
+    from envs.tasks.oracles import error_of
+
+    for name in ("oracle-cells:4", "oracle-door:0.5", "oracle-revisit:0.3", "oracle-pose"):
+        assert is_oracle_name(name) and parse_oracle(name).name == name
+        check_recognizer_name(name)
+    assert parse_oracle("oracle-pose").pose and error_of("oracle-pose") is None
+    assert error_of("oracle-cells:4") == ("cells", 4.0)
+    with pytest.raises(ValueError, match="door"):
+        parse_oracle("oracle-door:9")

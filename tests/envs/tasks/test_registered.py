@@ -22,14 +22,15 @@ TOUR = {"n_rooms": 3, "tour_steps_per_room": 40, "n_errands": 2, "recognizer": "
 
 def small(env_id: str, **kwargs) -> dict:
     """The battery's arguments for ``env_id``."""
-    return {**SMALL, **(TOUR if "GuidedTour" in env_id else {}), **kwargs}
+    return {**SMALL, **(TOUR if "GuidedTour" in env_id or "ImageGoal" in env_id else {}),
+            **kwargs}
 IDS = sorted(spec.id for spec in gym.registry.values()
              if str(spec.entry_point).startswith(f"{envs.__name__}."))
 
 
 def test_the_package_registers_its_envs():
-    assert IDS == ["PlaceNav-GuidedTour-v0", "PlaceNav-GuidedTour-v1", "PlaceNav-ReachRoom-v0",
-                   "PlaceNav-v0"]
+    assert IDS == ["PlaceNav-GuidedTour-v0", "PlaceNav-GuidedTour-v1", "PlaceNav-ImageGoal-v0",
+                   "PlaceNav-ReachRoom-v0", "PlaceNav-v0"]
 
 
 @pytest.mark.parametrize("env_id", IDS)

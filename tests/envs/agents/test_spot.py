@@ -1,0 +1,54 @@
+import gymnasium as gym
+import numpy as np
+import pytest
+
+from envs.agents.errands import check_goals, run_scene
+from envs.agents.spot import SpotPlanner
+
+TASK = {"goal_kind": "image", "tour_steps_per_room": 60}
+
+
+def _run(recognizer, seed=0, **kw):
+    return run_scene(1000, n_rooms=4, recognizer=recognizer, agent="spot", goals=4, seed=seed,
+                     **{**TASK, **kw})
+
+
+def test_the_ceiling_stops_at_the_goal():
+    """Fails if the agent stops short of its target or drives to the wrong spot."""
+    row = _run("oracle-pose")
+    assert row["success_rate"] == 1.0 and row["final_distance"] < 0.6
+
+
+def test_without_a_goal_place_the_agent_gives_up_at_once():
+    row = _run("none")
+    assert row["success_rate"] == 0.0 and row["mean_length"] == 1.0
+
+
+def test_finer_places_bring_the_agent_nearer_the_goal():
+    """Fails if the agent ignores the place it is given (true rooms and cells of a quarter
+    of a room would then end alike)."""
+    rooms = [_run("oracle", seed=s)["final_distance"] for s in range(3)]
+    cells = [_run("oracle-cells:4", seed=s)["final_distance"] for s in range(3)]
+    assert np.mean(cells) < np.mean(rooms)
+
+
+def test_the_medoid_is_the_step_nearest_all_of_its_place(made):
+    env = gym.make("PlaceNav-ImageGoal-v0", recognizer="oracle", n_rooms=3, n_errands=1,
+                   tour_steps_per_room=40)
+    made.append(env)
+    obs, info = env.reset(seed=0)
+    agent = SpotPlanner(unknown=env.unwrapped.max_places)
+    agent.reset(info["tour"], obs)
+    steps = np.flatnonzero(agent.places == 0)
+    points = agent.path[steps]
+    total = np.linalg.norm(points[:, None] - points[None], axis=2).sum(axis=1)
+    assert total[list(steps).index(agent.spot(0))] <= total.min() + 1e-6
+    assert agent.spot(99) is None
+
+
+def test_agents_run_only_the_goals_they_can():
+    check_goals("spot", {"goal_kind": "image"})
+    with pytest.raises(ValueError, match="relocalizer agent cannot run errands to image"):
+        check_goals("relocalizer", {}, {"carried": {"goal_kind": "image"}})
+    with pytest.raises(ValueError, match="spot agent cannot run errands to room"):
+        check_goals("spot", {})
