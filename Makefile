@@ -7,7 +7,7 @@ PIP := $(PY) -m pip
 export MUJOCO_GL ?= egl
 
 .PHONY: demo test test-oldest docs-check real-images benchmarks bench bench-quick bench-long bench-env bench-latency train eval \
-	leaderboard leaderboard-v1 train-errands train-tour train-reachroom agents-tour agents-suite seed001 \
+	leaderboard leaderboard-v1 leaderboard-v3 train-errands train-tour train-reachroom agents-tour agents-suite seed001 \
 	clean
 
 $(VENV)/.installed: pyproject.toml
@@ -74,7 +74,9 @@ real-images: $(VENV)/.installed
 DOCS := --docs docs/benchmarks.md
 # the sections of the tracks' val pilots, which make benchmarks does not run (so does not record)
 VAL_PILOTS := score-pilot-val score-pilot-lit-val leaderboard-val-corridor-carried-relocalizer \
-	compare-val-corridor-carried calibration-corridor-carried-val calibration-tracks-val
+	compare-val-corridor-carried calibration-corridor-carried-val calibration-tracks-val \
+	$(foreach t,continued changed-night changed-moved carried corridor corridor-carried,\
+	leaderboard-val-$(t)-spot) score-pilot-v3-val
 # seed 000's recognizer with the paper's values (--preset paper), as a user's class
 PAPER := placeclust.online:OnlinePlaceClustering
 V2_TRACKS := $(foreach t,continued changed-night changed-cloudy changed-moved carried corridor \
@@ -198,6 +200,18 @@ eval: $(VENV)/.installed
 leaderboard: $(VENV)/.installed
 	$(VENV)/bin/placeclust leaderboard --suite placenav-v2 --out runs/v2
 	$(VENV)/bin/placeclust score $(V2_TRACKS) --pair panorama panorama-orb
+
+# errands to pictures of spots: every built-in, the ceiling and the calibration oracles on
+# every track (not yet measured at full size; its val pilot, six tracks of 6 buildings, took
+# 43 minutes on 2 cores)
+V3_TRACKS := $(foreach t,continued changed-night changed-cloudy changed-moved carried corridor \
+	corridor-carried long,runs/v3/$(t)/results.json)
+leaderboard-v3: $(VENV)/.installed
+	$(VENV)/bin/placeclust leaderboard --suite placenav-v3 --out runs/v3 --recognizers \
+		oracle-pose oracle oracle-cells:2 oracle-cells:4 oracle-door:1 oracle-revisit:0.5 \
+		panorama panorama-orb nested none random
+	$(VENV)/bin/placeclust score $(V3_TRACKS) --ceiling oracle-pose --pair panorama \
+		panorama-orb --pair oracle oracle-cells:2
 
 # the first suite, one set of errands on 60 buildings (55 minutes to 2 hours on 2 cores,
 # by the day)

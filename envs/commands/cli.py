@@ -138,18 +138,22 @@ def cmd_cluster(args: argparse.Namespace) -> None:
     shapes = tour_error_shapes(args.tour, result.assignments, room)
     (out / "metrics.json").write_text(json.dumps({**meta, **metrics, **shapes}, indent=2))
     print(format_table({f"{args.algo}/{args.features}": metrics}))
-    print(f"errors' shapes (placeclust.error_shapes): doorway lag {shapes['lag_m']:.2f} m "
-          f"(median of {shapes['entries']} entries), {shapes['near_door_share']:.2f} of wrong "
-          f"frames within 1 m of an entry, {shapes['revisit_new']:.2f} of {shapes['revisits']} "
-          "revisits open a place")
+    if shapes:
+        print(f"errors' shapes (placeclust.error_shapes): doorway lag {shapes['lag_m']:.2f} m "
+              f"(median of {shapes['entries']} entries), {shapes['near_door_share']:.2f} of "
+              f"wrong frames within 1 m of an entry, {shapes['revisit_new']:.2f} of "
+              f"{shapes['revisits']} revisits open a place")
 
 
 def tour_error_shapes(path: str, assignments: np.ndarray, room: np.ndarray
                       ) -> dict[str, float]:
-    """:func:`placeclust.error_shapes.error_shapes` of a tour's places, where its poses were."""
+    """:func:`placeclust.error_shapes.error_shapes` of a tour's places, where its poses were
+    (none for a tour that recorded no poses)."""
     from placeclust.error_shapes import error_shapes
 
     with np.load(path, allow_pickle=False) as z:
+        if "pose" not in z.files:
+            return {}
         positions = z["pose"][:, :2]
     return error_shapes(assignments, room, positions)
 

@@ -385,8 +385,10 @@ def _calibrate(docs: dict[str, dict[str, Any]], ceiling: str, path: Path) -> str
     text, points = calibration(docs, ceiling)
     if not points:
         raise ValueError(f"no calibration recognizer (oracle-KIND:VALUE) in {list(docs)}")
+    # the true rooms are the family's no-error point; a ceiling that knows more (oracle-pose)
+    # is drawn as a line of its own
     calibration_curves(points, {t: interval(groups(recognizer_rows(d, ceiling), "success_rate"))
-                                for t, d in docs.items()}, path)
+                                for t, d in docs.items()}, path, anchored=ceiling == "oracle")
     return text + f" Curves: `{path}`."
 
 

@@ -163,14 +163,19 @@ def save_tour_gif(tour: Tour, places: np.ndarray, path: str, every: int = 10,
 
 #: what each calibration family's value means, and the value that is no error at all
 _ERRORS = {"noise": ("frames given another room's place", 0.0),
-           "split": ("places per room", 1.0), "merge": ("probability a door's rooms merge", 0.0)}
+           "split": ("places per room", 1.0), "merge": ("probability a door's rooms merge", 0.0),
+           "cells": ("compact places per room", 1.0),
+           "door": ("metres the room left is reported", 0.0),
+           "revisit": ("probability a revisit opens a place", 0.0)}
 
 
 def calibration_curves(points: list[dict[str, Any]], ceilings: dict[str, Any],
-                       path: str | Path) -> None:
+                       path: str | Path, anchored: bool = True) -> None:
     """Errand success against the injected error: a panel per kind of error
     (:mod:`envs.tasks.oracles`), a line per track, each point with its 95% interval, starting
-    from the true rooms' success (``ceilings``, an ``Estimate`` a track) at no error.
+    from the true rooms' success (``ceilings``, an ``Estimate`` a track) at no error; with
+    ``anchored=False`` (a ceiling that is not the family's no-error point, ``oracle-pose``)
+    the ceiling is a dashed line in the track's colour instead.
 
     ``points`` are :func:`envs.commands.compare.calibration`'s: ``track``, ``kind``, ``value``
     and ``success`` (an ``Estimate``).
@@ -181,14 +186,18 @@ def calibration_curves(points: list[dict[str, Any]], ceilings: dict[str, Any],
     for ax, kind in zip(axes[0], kinds):
         label, none = _ERRORS[kind]
         for track in dict.fromkeys(q["track"] for q in points):
-            est = [ceilings[track]] + [q["success"] for q in points
+            first = [ceilings[track]] if anchored else []
+            est = first + [q["success"] for q in points
+                           if q["track"] == track and q["kind"] == kind]
+            x = [none] * len(first) + [q["value"] for q in points
                                        if q["track"] == track and q["kind"] == kind]
-            x = [none] + [q["value"] for q in points if q["track"] == track and q["kind"] == kind]
-            if len(x) < 2:
+            if len(x) < 2 - (not anchored):
                 continue
-            ax.errorbar(x, [e.mean for e in est], yerr=[[e.mean - e.low for e in est],
-                                                        [e.high - e.mean for e in est]],
-                        marker="o", capsize=3, label=track)
+            line = ax.errorbar(x, [e.mean for e in est], yerr=[[e.mean - e.low for e in est],
+                                                               [e.high - e.mean for e in est]],
+                               marker="o", capsize=3, label=track)
+            if not anchored:
+                ax.axhline(ceilings[track].mean, ls="--", lw=0.8, color=line[0].get_color())
         ax.set(xlabel=label, title=f"oracle-{kind}", ylim=(-0.05, 1.05))
         ax.grid(alpha=0.3)
     axes[0][0].set_ylabel("errand success")

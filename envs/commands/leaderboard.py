@@ -277,7 +277,8 @@ def _report(args: argparse.Namespace, prog: str, argv: list[str], rows: list[dic
                         provenance(suite, args.size))
     summaries = doc["summaries"]
     skipped = settings.get("skipped", [])
-    body = (_describe(args, seeds, summaries, doc["provenance"], track) + "\n\n"
+    body = (_describe(args, seeds, summaries, doc["provenance"], track, settings["task"])
+            + "\n\n"
             + leaderboard(summaries)
             + (f"\n\nSkipped (no `localize_one`, so no fixed map to run on): "
                f"{', '.join(skipped)}." if skipped else "")
@@ -299,7 +300,8 @@ def _report(args: argparse.Namespace, prog: str, argv: list[str], rows: list[dic
 
 
 def _describe(args: argparse.Namespace, seeds: list[int], summaries: list[dict[str, Any]],
-              prov: dict[str, Any], track: str | None = None) -> str:
+              prov: dict[str, Any], track: str | None = None,
+              task: dict[str, Any] | None = None) -> str:
     """The paragraph above the table: what ran, on what, for how long, and how sure."""
     rho = (f"{rank_agreement(summaries):.2f}" if len(summaries) > 2
            else "too few recognizers for one (3 at least)")
@@ -322,9 +324,18 @@ def _describe(args: argparse.Namespace, seeds: list[int], summaries: list[dict[s
             "core in all. "
             f"Each figure: the mean over errands (tours for the map's figures) with its 95% "
             f"interval from a bootstrap over buildings. {redrawn} of {errands} errands were "
-            "redrawn to start at least 1 m of walking from their goal. Spearman's rank "
+            f"redrawn to start {_far(task or {})}. Spearman's rank "
             f"correlation of success with NMI ({len(summaries)} points, no interval): {rho}."
             + (" One building: no interval can be drawn from it." if len(seeds) < 2 else ""))
+
+
+def _far(task: dict[str, Any]) -> str:
+    """How far an errand's start is drawn from its goal, as the task sets it."""
+    if task.get("goal_kind") != "image":
+        return "at least 1 m of walking from their goal"
+    radius = float(task.get("success_radius", 1.0))
+    return (f"at least {max(1.0, 2 * radius):g} m of walking from their goal, a picture "
+            f"reached by stopping within {radius:g} m of it")
 
 
 def _policy(args: argparse.Namespace) -> str:
