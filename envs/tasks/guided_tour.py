@@ -36,6 +36,7 @@ from placeclust.protocol import reads_images, resolve
 
 from ..world.changes import clear_pose
 from ..world.conditions import CONDITION_KEYS, CONDITIONS
+from ..world.robot import check_action
 from .errand_draws import carry, check_errands
 from .errand_goals import Goal, RoomGoals, make_goals
 from .goals import NavTask
@@ -224,6 +225,7 @@ class GuidedTourEnv(NavTask, gym.utils.EzPickle):
             "place_id": spaces.Discrete(max_places + 1), **self.goals.spaces(),
             **{k: nav.observation_space[k] for k in keep}})
         # an image goal's errand ends when the agent says it has arrived (ImageNav's STOP)
+        self._action_size = 2 if goal_kind == "room" else 3
         self.action_space = nav.action_space if goal_kind == "room" else spaces.Box(
             -1.0, 1.0, (3,), np.float32)
         self._named: list[str] = []
@@ -304,11 +306,7 @@ class GuidedTourEnv(NavTask, gym.utils.EzPickle):
              ) -> tuple[dict[str, Any], float, bool, bool, dict[str, Any]]:
         if self._over:
             raise RuntimeError("the episode is over; call reset()")
-        action = np.asarray(action)
-        if action.shape != self.action_space.shape:
-            raise ValueError(f"action must have shape {self.action_space.shape} (forward, turn"
-                             + (", stop)" if self.goals.kind == "image" else ")")
-                             + f", got {action.shape}")
+        action = check_action(action, size=self._action_size)
         obs, _, _, _, info = self._env.step(action[:2])
         self._read_place(info)
         errand = self._errands[-1]

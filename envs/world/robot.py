@@ -29,11 +29,17 @@ def wheel_speeds(action: np.ndarray) -> np.ndarray:
     return np.array([(v - half) / WHEEL_RADIUS, (v + half) / WHEEL_RADIUS])
 
 
-def check_action(action: np.ndarray) -> np.ndarray:
-    """The action as a float64 array of shape (2,), or a ``ValueError`` naming the problem."""
+#: what each entry of an action is: the robot's two, and an image goal's arrival
+_ENTRIES = ("forward", "turn", "stop")
+
+
+def check_action(action: np.ndarray, size: int = 2) -> np.ndarray:
+    """The action as a float64 array of shape (size,), or a ``ValueError`` naming the problem:
+    the robot's (forward, turn), with ``size=3`` also an image goal's stop."""
     a = np.asarray(action, dtype=np.float64)
-    if a.shape != (2,):
-        raise ValueError(f"action must have shape (2,) = (forward, turn), got shape {a.shape}")
+    if a.shape != (size,):
+        raise ValueError(f"action must have shape ({size},) = ({', '.join(_ENTRIES[:size])}), "
+                         f"got shape {a.shape}")
     if not np.all(np.isfinite(a)):
         raise ValueError(f"action contains NaN or inf: {a.tolist()}")
     if np.any(np.abs(a) > 1.0 + 1e-6):

@@ -56,8 +56,10 @@ def test_a_stop_ends_the_errand_and_scores_the_distance_left(make_goals):
     assert result["steps"] == 1 and not result["success"] and result["spl"] == 0.0
     assert result["final_distance"] >= 2 * env.unwrapped.goals.radius - 0.2
     assert obs["errand"] == 1  # the next errand began
-    with pytest.raises(ValueError, match=r"shape \(3,\)"):
+    with pytest.raises(ValueError, match=r"shape \(3,\) = \(forward, turn, stop\)"):
         env.step(np.zeros(2, np.float32))
+    with pytest.raises(ValueError, match="NaN"):  # the stop entry is checked like the others
+        env.step(np.array([0.0, 0.0, np.nan], np.float32))
 
 
 def test_localizing_the_goal_moves_neither_the_robot_nor_its_tracking(make_goals):
