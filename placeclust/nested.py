@@ -6,6 +6,8 @@ local level of *views* (Haar wavelet signatures, Sec. 3.2 and 4.6): :class:`Nest
 
 from __future__ import annotations
 
+from typing import ClassVar
+
 import networkx as nx
 import numpy as np
 
@@ -110,6 +112,10 @@ class NestedMapper:
         >>> mapper.predict_one(frames[0])
         0
     """
+
+    #: the camera it was built for (Sec. 5: a forward camera); the closed loop
+    #: (``envs.tasks.recognizers``) renders it, for a ``package.module:Class`` too
+    camera: ClassVar[str] = "forward"
 
     def __init__(
         self,

@@ -58,7 +58,11 @@ class RecognizerName:
 
     @property
     def camera(self) -> str:
-        """The camera it reads: ``nested`` (seed 001) the forward one, the rest the panorama."""
+        """The camera it reads: ``nested`` (seed 001) the forward one, a class of one's own its
+        ``camera`` attribute (``placeclust.nested:NestedMapper``'s is ``"forward"``), the rest
+        the panorama."""
+        if self.kind == "own":
+            return str(getattr(recognizer_class(self.name), "camera", "panorama"))
         return "forward" if self.name == "nested" else "panorama"
 
     def build(self, n_rooms: int, max_places: int = 64,
