@@ -63,6 +63,9 @@ def image_files(folder: str | Path) -> list[Path]:
         DatasetError: the folder is missing or holds no image.
     """
     path = Path(folder)
+    if path.is_file():
+        raise DatasetError(f"{path} is a file; give the folder that holds the images"
+                           + (f" ({path.parent})" if path.suffix.lower() in SUFFIXES else ""))
     if not path.is_dir():
         raise DatasetError(f"image folder {path} does not exist")
     files = sorted((f for f in path.iterdir() if f.suffix.lower() in SUFFIXES and f.is_file()),

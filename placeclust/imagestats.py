@@ -33,6 +33,7 @@ from pathlib import Path
 
 import numpy as np
 
+from placeclust.argparsing import ArgumentParser
 from placeclust.features import BINARY, FEATURES, FeatureExtractor
 from placeclust.frames import to_gray
 from placeclust.matching import normalize, ratio_matches
@@ -228,8 +229,8 @@ def _open_tour(path: str) -> tuple[str, Sequence[np.ndarray], np.ndarray | None]
 
 def main(argv: list[str] | None = None, prog: str = "python -m placeclust.imagestats") -> int:
     """The image statistics' command line (``placeclust stats``); the exit status."""
-    p = argparse.ArgumentParser(prog=prog, description=__doc__,
-                                formatter_class=argparse.RawDescriptionHelpFormatter)
+    p = ArgumentParser(prog=prog, description=__doc__,
+                       formatter_class=argparse.RawDescriptionHelpFormatter)
     p.add_argument("--images", nargs="+", action="extend", metavar="DIR", default=[],
                    help="image folders (labels.csv used when present and naming two places "
                    "or more), or VPR-Bench datasets (their ref/ traversal)")

@@ -21,6 +21,7 @@ from typing import Any
 
 import numpy as np
 
+from placeclust.argparsing import ArgumentParser
 from placeclust.online import OnlinePlaceClustering
 from placeclust.runner import check_params, literal_params
 from placeclust.synthetic import jitter, textured
@@ -161,8 +162,8 @@ def _table(features: str, rows: list[dict[str, Any]]) -> list[str]:
 
 def main(argv: list[str] | None = None, prog: str = "python -m placeclust.latency") -> int:
     """The latency sweep's command line (``placeclust latency``); the exit status."""
-    p = argparse.ArgumentParser(prog=prog, description=__doc__,
-                                formatter_class=argparse.RawDescriptionHelpFormatter)
+    p = ArgumentParser(prog=prog, description=__doc__,
+                       formatter_class=argparse.RawDescriptionHelpFormatter)
     p.add_argument("--features", nargs="+", default=["sift", "orb"])
     p.add_argument("--sizes", nargs="+", type=int, default=[10, 50, 100, 250, 500])
     p.add_argument("--repeats", type=int, default=3,

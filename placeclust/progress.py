@@ -78,13 +78,13 @@ class LogProgress:
         while self.total and self._quarter < 4 and 4 * self.n >= self._quarter * self.total:
             self._quarter, crossed = self._quarter + 1, True
         if crossed and self.total and self.n < self.total:  # the end has close()'s line
-            self._say(f"{self.n}/{self.total} {self.unit}s ({100 * self.n // self.total}%), "
+            self._say(f"{self.n}/{plural(self.total, self.unit)} ({100 * self.n // self.total}%), "
                       f"{time.perf_counter() - self._start:.1f} s")
 
     def close(self) -> None:
         if not self._closed:
             self._closed = True
-            self._say(f"{self.n} {self.unit}s in {time.perf_counter() - self._start:.1f} s")
+            self._say(f"{plural(self.n, self.unit)} in {time.perf_counter() - self._start:.1f} s")
 
     def _say(self, text: str) -> None:
         if not self.quiet:
@@ -95,3 +95,12 @@ class LogProgress:
 
     def __exit__(self, *exc: object) -> None:
         self.close()
+
+
+def plural(n: int, noun: str) -> str:
+    """``"1 job"``, ``"2 jobs"``: a count with its noun (English's regular plural).
+
+    >>> plural(1, "minute"), plural(0, "finished job")
+    ('1 minute', '0 finished jobs')
+    """
+    return f"{n} {noun}" if n == 1 else f"{n} {noun}s"

@@ -32,7 +32,7 @@ from typing import Any
 import cv2
 import numpy as np
 
-from placeclust import protocol
+from placeclust import protocol, strict_json
 from placeclust.datasets import DatasetError, ImageFolder
 from placeclust.metrics import latency_summary
 from placeclust.runner import Result, evaluate, localize, run
@@ -272,12 +272,11 @@ def write_run(out: str | Path, run_: SequenceRun, mapped: Sequence[np.ndarray],
     fails writes nothing): ``metrics.json`` (``meta`` and the metrics), ``assignments.npy``
     (the place of each mapped frame), ``query_assignments.npy`` with queries, and
     ``places.png`` (:func:`save_place_strips` of the mapped frames)."""
-    import json
 
     folder = Path(out)
     folder.mkdir(parents=True, exist_ok=True)
     np.save(folder / "assignments.npy", run_.result.assignments)
     if run_.query is not None:
         np.save(folder / "query_assignments.npy", run_.query.assignments)
-    (folder / "metrics.json").write_text(json.dumps({**meta, **run_.metrics}, indent=2))
+    (folder / "metrics.json").write_text(strict_json.dumps({**meta, **run_.metrics}, indent=2))
     save_place_strips(mapped, run_.result.assignments, folder / "places.png")

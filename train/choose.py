@@ -29,8 +29,10 @@ import yaml
 
 from envs.commands.closed_loop import TOUR_STEPS_PER_ROOM, make_jobs, run_jobs, tour_task
 from envs.commands.results import summarize
+from envs.world.layout import room_count
 from envs.world.scene import LAYOUTS
 from envs.world.splits import scenes
+from placeclust.argparsing import ArgumentParser
 
 #: the file the chosen policy is copied to (rl-baselines3-zoo's name), and the record
 BEST, CHOICE = "best_model.zip", "choice.json"
@@ -116,11 +118,11 @@ def _layouts(env: dict[str, Any]) -> list[str]:
 
 
 def main(argv: list[str] | None = None) -> int:
-    p = argparse.ArgumentParser(prog="python -m train.choose", description=__doc__,
-                                formatter_class=argparse.RawDescriptionHelpFormatter)
+    p = ArgumentParser(prog="python -m train.choose", description=__doc__,
+                       formatter_class=argparse.RawDescriptionHelpFormatter)
     p.add_argument("run", type=Path, help="a run folder of python -m train.train")
     p.add_argument("--n-scenes", type=int, default=4, help="val buildings of each layout")
-    p.add_argument("--rooms", type=int, default=6)
+    p.add_argument("--rooms", type=room_count, default=6)
     p.add_argument("--goals-per-scene", type=int, default=5)
     p.add_argument("--recognizer", help="the map's recognizer (default: the run's training "
                    "one)")

@@ -29,7 +29,9 @@ import envs  # noqa: F401  (registers the environments)
 from envs.agents.learned import LearnedAgent, config_path
 from envs.agents.tour_features import TourFeatures
 from envs.commands.results import policy_name, seed_span
+from envs.world.layout import room_count
 from envs.world.splits import scenes
+from placeclust.argparsing import ArgumentParser
 from placeclust.docs_section import write_section
 
 #: the errands of an episode are reported in this many consecutive groups
@@ -105,11 +107,11 @@ def table(rows: dict[str, tuple[np.ndarray, np.ndarray]], errands: int) -> str:
 
 
 def main(argv: list[str] | None = None) -> int:
-    p = argparse.ArgumentParser(prog="python -m train.drift", description=__doc__,
-                                formatter_class=argparse.RawDescriptionHelpFormatter)
+    p = ArgumentParser(prog="python -m train.drift", description=__doc__,
+                       formatter_class=argparse.RawDescriptionHelpFormatter)
     p.add_argument("policies", nargs="+", type=Path, help="continued-errand policy files")
     p.add_argument("--n-scenes", type=int, default=6, help="val buildings")
-    p.add_argument("--rooms", type=int, default=6)
+    p.add_argument("--rooms", type=room_count, default=6)
     p.add_argument("--errands", type=int, default=20, help="errands after each tour")
     p.add_argument("--seed", type=int, default=0)
     p.add_argument("--docs", metavar="FILE", help="also write the table into FILE's section")

@@ -36,6 +36,7 @@ from pathlib import Path
 import numpy as np
 
 from envs.world.splits import split_of
+from placeclust.argparsing import ArgumentParser
 from placeclust.docs_section import write_section
 from train.config import HYPERPARAMS, env_section
 from train.make import PLANNER_SENSORS, SENSORS, make_env
@@ -144,14 +145,14 @@ def evaluate(agent: str, episodes: int, seed: int, policy: Path | None = None,
 
 def main(argv: list[str] | None = None) -> int:
     argv = sys.argv[1:] if argv is None else list(argv)
-    pre = argparse.ArgumentParser(add_help=False)
+    pre = ArgumentParser(add_help=False)
     pre.add_argument("--task", choices=("reach", "unseen"), default="reach")
     if pre.parse_known_args(argv)[0].task == "unseen":
         from envs.commands.closed_loop import main as unseen
 
         return unseen(argv)
-    p = argparse.ArgumentParser(prog="python -m train.evaluate", description=__doc__,
-                                formatter_class=argparse.RawDescriptionHelpFormatter)
+    p = ArgumentParser(prog="python -m train.evaluate", description=__doc__,
+                       formatter_class=argparse.RawDescriptionHelpFormatter)
     p.add_argument("--task", choices=("reach", "unseen"), default="reach",
                    help="reach: PlaceNav-ReachRoom-v0 on the training building (this page); "
                    "unseen: a guided tour, then errands, in buildings never seen (see "

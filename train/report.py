@@ -31,6 +31,7 @@ from typing import Any
 
 from envs.commands.compare import differences
 from envs.commands.results import groups, load_results, policy_name, seed_span
+from placeclust.argparsing import ArgumentParser
 from placeclust.docs_section import write_section
 from placeclust.stats import Estimate, over_seeds
 
@@ -161,8 +162,8 @@ def agents_table(docs: dict[str, dict[str, Any]], against: list[str]) -> tuple[s
 
 
 def main(argv: list[str] | None = None) -> int:
-    p = argparse.ArgumentParser(prog="python -m train.report", description=__doc__,
-                                formatter_class=argparse.RawDescriptionHelpFormatter)
+    p = ArgumentParser(prog="python -m train.report", description=__doc__,
+                       formatter_class=argparse.RawDescriptionHelpFormatter)
     p.add_argument("agents", nargs="+", metavar="NAME=FILE[@RECOGNIZER][,FILE...]")
     p.add_argument("--against", nargs="+", required=True, metavar="NAME",
                    help="agents to pair every other with; the first is the upper bracket")

@@ -27,6 +27,7 @@ import yaml
 from envs.agents.learned import ALGOS, learner
 from envs.tasks.vector import single_threaded_workers
 from envs.world.splits import check_split
+from placeclust.argparsing import ArgumentParser
 from train.config import HYPERPARAMS, load_config
 from train.make import AGENTS, make_env
 from train.mapping import EDGES_FILE, MAP_FILE, build_map
@@ -164,8 +165,8 @@ def _versions() -> dict[str, str]:
 
 
 def main(argv: list[str] | None = None) -> int:
-    p = argparse.ArgumentParser(prog="python -m train.train", description=__doc__,
-                                formatter_class=argparse.RawDescriptionHelpFormatter)
+    p = ArgumentParser(prog="python -m train.train", description=__doc__,
+                       formatter_class=argparse.RawDescriptionHelpFormatter)
     p.add_argument("--agent", default="place",
                    help="a section of the config (ppo.yml: place, noplace, oracle, errands)")
     p.add_argument("--seed", type=int, default=0)

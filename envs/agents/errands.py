@@ -125,7 +125,8 @@ def check_agent(agent: str, policy: Path | None) -> None:
     the ``ppo`` agent needs stable-baselines3 (the ``train`` extra) and its policy file.
 
     Raises:
-        ValueError: stable-baselines3 is missing; the line says which extra brings it.
+        ValueError: stable-baselines3 is missing or does not import; the line says which
+            extra brings it.
         FileNotFoundError: no such policy file; the line names the shipped policies.
     """
     if agent != "ppo":
@@ -133,6 +134,13 @@ def check_agent(agent: str, policy: Path | None) -> None:
     if importlib.util.find_spec("stable_baselines3") is None:
         raise ValueError("the ppo agent needs stable-baselines3: pip install 'placeclust[train]' "
                          "(with torch==2.13.0 first on a CPU machine)")
+    try:  # installed is not enough: a torch that does not load fails here, not in every job
+        importlib.import_module("stable_baselines3")
+    except Exception as exc:  # noqa: BLE001 - any failure of a broken install, named
+        first = (str(exc).splitlines() or [""])[0]
+        raise ValueError(f"the ppo agent needs stable-baselines3, which is installed but does "
+                         f"not import ({type(exc).__name__}: {first}); reinstall it: pip "
+                         "install --force-reinstall 'placeclust[train]'") from exc
     path = Path(policy or POLICY)
     if not path.is_file():
         shipped = sorted(p.parent.name for p in (ASSETS / "policies" / "tour").glob(

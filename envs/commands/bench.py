@@ -44,6 +44,7 @@ import numpy as np
 
 from placeclust import __version__, protocol
 from placeclust.features import FEATURES
+from placeclust.progress import plural
 from placeclust.realdata import dataset_kind, fingerprint
 from placeclust.runner import ALGORITHMS, check_params, recognizer_class
 
@@ -402,7 +403,7 @@ def run_bench(matrix: Matrix, out: str | os.PathLike, workers: int = 0, executor
         {"matrix": asdict(matrix), "versions": library_versions()}, indent=1))
     jobs, done = plan_jobs(matrix, store)
     if progress:
-        print(f"{done} runs already done in {folder}; {len(jobs)} jobs to go")
+        print(f"{plural(done, 'run')} already done in {folder}; {plural(len(jobs), 'job')} to go")
     if store.stale:
         print(f"{len(store.stale)} kept runs in {store.folder} are stale (code, libraries or "
               "rendering changed since) and run again", file=sys.stderr)

@@ -8,7 +8,6 @@ from __future__ import annotations
 
 import argparse
 import importlib
-import json
 import shlex
 import sys
 from pathlib import Path
@@ -16,12 +15,14 @@ from typing import TYPE_CHECKING, Any, NoReturn
 
 import numpy as np
 
-from placeclust import PRESETS
+from placeclust import PRESETS, strict_json
+from placeclust.argparsing import ArgumentParser
 from placeclust.docs_section import write_section
 from placeclust.features import FEATURES
 from placeclust.runner import ALGORITHMS, check_params, evaluate, preset_params, run
 
 from ..world.conditions import CONDITIONS, LIGHTING
+from ..world.layout import room_count
 from ..world.splits import SPLITS, check_split, scenes, split_of
 from .bench_report import format_table
 
@@ -136,7 +137,7 @@ def cmd_cluster(args: argparse.Namespace) -> None:
     meta = {"algo": args.algo, "features": args.features, "tour": str(args.tour),
             "preset": args.preset, "params": params, **scene}
     shapes = tour_error_shapes(args.tour, result.assignments, room)
-    (out / "metrics.json").write_text(json.dumps({**meta, **metrics, **shapes}, indent=2))
+    (out / "metrics.json").write_text(strict_json.dumps({**meta, **metrics, **shapes}, indent=2))
     print(format_table({f"{args.algo}/{args.features}": metrics}))
     if shapes:
         print(f"errors' shapes (placeclust.error_shapes): doorway lag {shapes['lag_m']:.2f} m "
@@ -276,7 +277,7 @@ def _add_bench(sub: argparse._SubParsersAction) -> None:
     bench.add_argument("--dataset", nargs="+", metavar="DIR",
                        help="real data sets beside the simulated tours: labelled image folders "
                        "(labels.csv) or VPR-Bench folders (placeclust.datasets)")
-    bench.add_argument("--rooms", nargs="+", type=int)
+    bench.add_argument("--rooms", nargs="+", type=room_count)
     bench.add_argument("--conditions", nargs="+", help="day, cloudy, night, moved, noisy, or "
                        "map>test as day>night (online only)")
     bench.add_argument("--tour-seeds", nargs="+", type=int)
@@ -309,14 +310,14 @@ def _add_docs(parser: argparse.ArgumentParser) -> None:
 
 
 def build_parser() -> argparse.ArgumentParser:
-    parser = argparse.ArgumentParser(
+    parser = ArgumentParser(
         prog="placeclust", description="Unsupervised, online place recognition: record tours "
         "in a simulated building, cluster them into places, benchmark recognizers.")
     sub = parser.add_subparsers(dest="command", required=True)
 
     tour = sub.add_parser("tour", help="drive a scripted tour and record it")
     tour.add_argument("--scene-seed", type=int, default=0)
-    tour.add_argument("--rooms", type=int, default=4)
+    tour.add_argument("--rooms", type=room_count, default=4)
     tour.add_argument("--steps", type=int, default=1000)
     tour.add_argument("--seed", type=int, default=0, help="start pose and route")
     tour.add_argument("--camera", choices=("panorama", "forward"), default="panorama",
@@ -371,7 +372,7 @@ def build_parser() -> argparse.ArgumentParser:
     demo = sub.add_parser("demo", help="tour the default world and report (the main job)")
     demo.add_argument("--out", default="runs/demo")
     demo.add_argument("--scene-seed", type=int, default=0)
-    demo.add_argument("--rooms", type=int, default=4)
+    demo.add_argument("--rooms", type=room_count, default=4)
     demo.add_argument("--steps", type=int, default=1000)
     demo.add_argument("--seed", type=int, default=0)
     _add_docs(demo)
@@ -406,7 +407,16 @@ COMMANDS = {
 
 
 def main(argv: list[str] | None = None) -> None:
-    argv = sys.argv[1:] if argv is None else list(argv)
+    """``placeclust ...``: a subcommand's exit status; Ctrl-C is one line and status 130
+    (what a shell reports for SIGINT), saying what was kept where a command keeps runs."""
+    try:
+        _main(sys.argv[1:] if argv is None else list(argv))
+    except KeyboardInterrupt as exc:
+        print(str(exc) or "interrupted", file=sys.stderr)
+        raise SystemExit(130) from None
+
+
+def _main(argv: list[str]) -> None:
     if argv and argv[0] in COMMANDS:
         path, _, function = COMMANDS[argv[0]][0].partition(":")
         module = importlib.import_module(path, __package__)

@@ -33,8 +33,10 @@ from collections.abc import Callable
 from pathlib import Path
 from typing import Any
 
+from placeclust.argparsing import ArgumentParser
 from placeclust.checks import check_recognizer
 from placeclust.presets import PRESETS
+from placeclust.progress import plural
 from placeclust.progress import progress as progress_bar
 from placeclust.runner import preset_params, recognizer_class
 
@@ -47,6 +49,7 @@ from ..tasks.recognizers import (
     localizes,
     make_recognizer,
 )
+from ..world.layout import room_count
 from ..world.scene import LAYOUTS
 from ..world.splits import add_scope_arguments, scope_seeds
 from .pool import run_all
@@ -153,16 +156,33 @@ def run_jobs(jobs: list[dict[str, Any]], out: Path | None = None, workers: int =
                   key=lambda j: COST.get(j["recognizer"], 0))
     if progress:  # at once: the first job's line comes only after its tour
         reused = f", {len(done)} kept from an earlier run in {out}" if done else ""
-        print(f"errands: {len(todo)} jobs to run{reused} (a job: one recognizer's guided tour "
-              f"of one building, then its errands; {workers} at a time)", file=sys.stderr,
-              flush=True)
+        print(f"errands: {plural(len(todo), 'job')} to run{reused} (a job: one recognizer's "
+              f"guided tour of one building, then its errands; {workers} at a time)",
+              file=sys.stderr, flush=True)
     bar = progress_bar(total=len(todo), enabled=progress, desc="errands", unit="job")
-    for job, row in run_all(_run_job, todo, workers, executor):
-        row = {**row, "key": job_key(job), "policy": job.get("policy")}
-        done[job_key(job)] = store.put(row) if store is not None else row
-        bar.update()
+    finished = 0
+    results = run_all(_run_job, todo, workers, executor)
+    try:
+        for job, row in results:
+            row = {**row, "key": job_key(job), "policy": job.get("policy")}
+            done[job_key(job)] = store.put(row) if store is not None else row
+            finished += 1
+            bar.update()
+    except KeyboardInterrupt:
+        bar.close()
+        what = (f"{plural(len(done), 'finished job')} kept in {store.folder}; the same command "
+                "resumes from them" if store is not None else
+                f"{plural(finished, 'job')} of {len(todo)} finished, none kept (no output folder)")
+        raise Interrupted(f"interrupted: {what}") from None
+    finally:
+        results.close()  # stops the pool's running jobs now, however this loop ended
     bar.close()
     return [done[job_key(j)] for j in jobs]
+
+
+class Interrupted(KeyboardInterrupt):
+    """Ctrl-C during :func:`run_jobs`; its message says what was kept (the command line prints
+    it as its one line, exit status 130)."""
 
 
 def stamp(row: dict[str, Any]) -> dict[str, Any]:
@@ -356,12 +376,12 @@ def recognizer_params(names: list[str], preset: str | None, param: list[str] | N
 
 def main(argv: list[str] | None = None, prog: str = "placeclust errands") -> int:
     """``placeclust errands ...``: one recognizer, one agent, a split; the exit status."""
-    p = argparse.ArgumentParser(prog=prog, description=__doc__,
-                                formatter_class=argparse.RawDescriptionHelpFormatter)
+    p = ArgumentParser(prog=prog, description=__doc__,
+                       formatter_class=argparse.RawDescriptionHelpFormatter)
     p.add_argument("--task", choices=("unseen",), default="unseen",
                    help=argparse.SUPPRESS)  # for python -m train.evaluate --task unseen
     add_scope_arguments(p, n_scenes=8)
-    p.add_argument("--rooms", type=int, default=6)
+    p.add_argument("--rooms", type=room_count, default=6)
     add_recognizer_arguments(p, many=False)
     p.add_argument("--agent", choices=ERRAND_AGENTS, default="planner")
     p.add_argument("--policy", type=Path, help="the ppo agent's policy (default: shipped)")

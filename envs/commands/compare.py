@@ -46,6 +46,7 @@ from typing import Any
 
 import numpy as np
 
+from placeclust.argparsing import ArgumentParser
 from placeclust.docs_section import write_section
 from placeclust.stats import (
     AGGREGATES,
@@ -154,8 +155,8 @@ def verdict(figures: dict[str, dict[str, float]], name_a: str, name_b: str, n: i
 
 
 def main(argv: list[str] | None = None, prog: str = "placeclust compare") -> int:
-    p = argparse.ArgumentParser(prog=prog, description=__doc__,
-                                formatter_class=argparse.RawDescriptionHelpFormatter)
+    p = ArgumentParser(prog=prog, description=__doc__,
+                       formatter_class=argparse.RawDescriptionHelpFormatter)
     p.add_argument("a", type=Path, help="results file of recognizer A")
     p.add_argument("b", type=Path, help="results file of recognizer B (may be the same file)")
     p.add_argument("--a", dest="name_a", metavar="NAME", help="A's recognizer, if the file "
@@ -333,8 +334,8 @@ def pair_table(docs: dict[str, dict[str, Any]], a: str, b: str, floor: str, ceil
 
 def score_main(argv: list[str] | None = None, prog: str = "placeclust score") -> int:
     """``placeclust score ...`` (the module's second command); the exit status."""
-    p = argparse.ArgumentParser(prog=prog, description=__doc__,
-                                formatter_class=argparse.RawDescriptionHelpFormatter)
+    p = ArgumentParser(prog=prog, description=__doc__,
+                       formatter_class=argparse.RawDescriptionHelpFormatter)
     p.add_argument("results", type=Path, nargs="+", help="one results file per track")
     p.add_argument("--floor", default="none", help="the recognizer scored 0 on every track "
                    "(default none)")

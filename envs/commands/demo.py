@@ -19,12 +19,11 @@
 
 from __future__ import annotations
 
-import json
 from pathlib import Path
 
 import numpy as np
 
-from placeclust import PANORAMA, OnlinePlaceClustering
+from placeclust import PANORAMA, OnlinePlaceClustering, strict_json
 
 from ..tasks.tour import record_tour
 from .figures import save_confusion, save_floor_plan, save_panoramas, save_place_map, save_tour_gif
@@ -84,7 +83,7 @@ def run_demo(out: str, scene_seed: int = 0, n_rooms: int = 4, steps: int = 1000,
         "features detected on a 0.75 copy of each frame (map_panorama.png). Forward camera: "
         "the same route seen by one 320x240 perspective camera looking ahead (70 degrees), "
         "the camera seed 001 was designed for.\n")
-    (folder / "metrics.json").write_text(json.dumps(table, indent=2))
+    (folder / "metrics.json").write_text(strict_json.dumps(table, indent=2))
     print(text)
     print(f"\nreport written to {folder}/")
     return table

@@ -40,10 +40,13 @@ import sys
 from pathlib import Path
 from typing import Any
 
+from placeclust.argparsing import ArgumentParser
 from placeclust.docs_section import write_section
+from placeclust.progress import plural
 
 from ..agents.errands import check_goals
 from ..tasks.recognizers import localizes
+from ..world.layout import room_count
 from ..world.splits import add_scope_arguments, scope_seeds
 from .closed_loop import (
     ERRAND_AGENTS,
@@ -193,14 +196,14 @@ def suite_jobs(settings: dict[str | None, dict[str, Any]], recognizers: list[str
 def main(argv: list[str] | None = None, prog: str = "placeclust leaderboard"
          ) -> int:
     # no abbreviations: the options a suite fixes are told by their full names
-    p = argparse.ArgumentParser(prog=prog, description=__doc__, allow_abbrev=False,
-                                formatter_class=argparse.RawDescriptionHelpFormatter)
+    p = ArgumentParser(prog=prog, description=__doc__, allow_abbrev=False,
+                       formatter_class=argparse.RawDescriptionHelpFormatter)
     p.add_argument("--suite", choices=sorted(SUITES), help="run a frozen suite: its buildings, "
                    "rooms, errands, tours and seed (envs.commands.suite)")
     p.add_argument("--size", choices=SIZES, default="full", help="the suite's full size, its "
                    "quick check, or (placenav-v1) its long tours (default full)")
     add_scope_arguments(p, n_scenes=8, default_split="test")
-    p.add_argument("--rooms", type=int, default=6)
+    p.add_argument("--rooms", type=room_count, default=6)
     add_recognizer_arguments(p, many=True)
     p.add_argument("--agent", choices=ERRAND_AGENTS, help="the errand agent (default: the "
                    "suite's, relocalizer from placenav-v2 on; planner without a suite)")
@@ -320,8 +323,8 @@ def _describe(args: argparse.Namespace, seeds: list[int], summaries: list[dict[s
     buildings = "1 building" if len(seeds) == 1 else f"{len(seeds)} buildings"
     return (f"{suite}{where_from}{buildings} of {args.rooms} rooms ({where} {span}), "
             f"{args.goals_per_scene} errands each after one guided tour, episode seed "
-            f"{args.seed}, agent `{args.agent}`{_policy(args)}; {minutes:.0f} minutes of one "
-            "core in all. "
+            f"{args.seed}, agent `{args.agent}`{_policy(args)}; "
+            f"{plural(round(minutes), 'minute')} of one core in all. "
             f"Each figure: the mean over errands (tours for the map's figures) with its 95% "
             f"interval from a bootstrap over buildings. {redrawn} of {errands} errands were "
             f"redrawn to start {_far(task or {})}. Spearman's rank "

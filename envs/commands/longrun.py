@@ -21,10 +21,12 @@ from pathlib import Path
 import gymnasium as gym
 import numpy as np
 
+from placeclust.argparsing import ArgumentParser
 from placeclust.metrics import score
 from placeclust.online import OnlinePlaceClustering
 
 from ..tasks.tour import tour_steps
+from ..world.layout import room_count
 
 
 def resident_mb() -> float:
@@ -96,10 +98,10 @@ def _format_row(r: dict) -> str:
 
 def main(argv: list[str] | None = None, prog: str = "placeclust longrun"
          ) -> int:
-    p = argparse.ArgumentParser(prog=prog, description=__doc__,
-                                formatter_class=argparse.RawDescriptionHelpFormatter)
+    p = ArgumentParser(prog=prog, description=__doc__,
+                       formatter_class=argparse.RawDescriptionHelpFormatter)
     p.add_argument("--steps", type=int, default=20_000)
-    p.add_argument("--rooms", type=int, default=12)
+    p.add_argument("--rooms", type=room_count, default=12)
     p.add_argument("--features", default="sift")
     p.add_argument("--scene-seed", type=int, default=0)
     p.add_argument("--seed", type=int, default=0)

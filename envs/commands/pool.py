@@ -14,7 +14,7 @@ from __future__ import annotations
 
 import os
 import sys
-from collections.abc import Callable, Iterator
+from collections.abc import Callable, Generator, Iterator
 from typing import Any, TypeVar
 
 Job = TypeVar("Job")
@@ -23,8 +23,9 @@ EXECUTORS = ("process", "ray")
 
 def run_all(fn: Callable[[Job], Any], jobs: list[Job], workers: int = 1,
             executor: str = "process", address: str | None = None
-            ) -> Iterator[tuple[Job, Any]]:
-    """``(job, fn(job))`` for every job, in the order they finish.
+            ) -> Generator[tuple[Job, Any], None, None]:
+    """``(job, fn(job))`` for every job, in the order they finish; closing the generator
+    early (``close()``, or dropping it) stops the jobs still running.
 
     Args:
         fn: a picklable callable (a module-level function, or a ``functools.partial`` of one).
@@ -54,27 +55,38 @@ def _local(fn: Callable, jobs: list, workers: int) -> Iterator[tuple[Any, Any]]:
     from concurrent.futures import ProcessPoolExecutor, as_completed
 
     # spawn, never fork: a forked child of a process that has rendered deadlocks in Mesa's EGL
-    with ProcessPoolExecutor(workers, mp_context=mp.get_context("spawn"),
-                             initializer=_die_with_parent, initargs=(os.getpid(),)) as pool:
-        futures = {pool.submit(fn, job): job for job in jobs}
-        try:
-            for fut in as_completed(futures):
-                yield futures[fut], fut.result()
-        except BaseException:
-            pool.shutdown(cancel_futures=True)
-            raise
+    pool = ProcessPoolExecutor(workers, mp_context=mp.get_context("spawn"),
+                               initializer=_die_with_parent, initargs=(os.getpid(),))
+    futures = {pool.submit(fn, job): job for job in jobs}
+    try:
+        for fut in as_completed(futures):
+            yield futures[fut], fut.result()
+    except BaseException:
+        # Ctrl-C or a failed job: stop the running jobs now rather than wait minutes for them
+        # (their results would be dropped anyway); finished ones were yielded and kept
+        workers_now = list(getattr(pool, "_processes", {}).values())
+        pool.shutdown(wait=False, cancel_futures=True)
+        for process in workers_now:
+            process.terminate()
+        raise
+    pool.shutdown()
 
 
 def _die_with_parent(parent: int) -> None:
-    """Have the kernel stop this worker when the process that started it dies (Linux).
+    """Have the kernel stop this worker when the process that started it dies (Linux), and
+    leave Ctrl-C to the parent.
 
     A killed benchmark (``kill``, a job scheduler's time limit) would otherwise leave its
     workers running their jobs, minutes each, on cores the next run needs.
     """
+    import signal
+
+    # Ctrl-C reaches the whole process group: the parent alone answers it (one line, kept
+    # jobs said) and stops the workers, which would each print a traceback of their own
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
     if not sys.platform.startswith("linux"):
         return
     import ctypes
-    import signal
 
     pr_set_pdeathsig = 1
     ctypes.CDLL(None, use_errno=True).prctl(pr_set_pdeathsig, int(signal.SIGTERM))

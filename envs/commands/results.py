@@ -20,6 +20,7 @@ import re
 from pathlib import Path
 from typing import Any
 
+from placeclust import strict_json
 from placeclust.atomic import write_atomic
 from placeclust.stats import Estimate, buildings_for, interval, paired_difference
 
@@ -98,7 +99,7 @@ def write_results(path: Path, rows: list[dict[str, Any]], recognizers: list[str]
     summaries = [summarize([r for r in rows if r["recognizer"] == name]) for name in recognizers]
     doc = {"format": FORMAT, "provenance": provenance, "settings": settings,
            "summaries": summaries, "buildings": rows}
-    text = json.dumps(doc, indent=1).encode()
+    text = strict_json.dumps(doc, indent=1).encode()  # null, not NaN: an undefined interval
     path.parent.mkdir(parents=True, exist_ok=True)
     write_atomic(path, lambda f: f.write(text))
     return doc
@@ -113,6 +114,10 @@ def load_results(path: Path) -> dict[str, Any]:
     if not isinstance(doc, dict) or doc.get("format") != FORMAT:
         raise ValueError(f"{path} is not a {FORMAT} results file (written by placeclust "
                          "leaderboard or placeclust errands --json)")
+    for summary in doc.get("summaries", []):  # an interval of one building is null: NaN
+        for key, value in summary.items():
+            if key.endswith("_interval"):
+                summary[key] = strict_json.nan_for_none(value)
     return doc
 
 

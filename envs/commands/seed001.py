@@ -36,7 +36,10 @@ from typing import Any
 
 import numpy as np
 
+from placeclust.argparsing import ArgumentParser
+
 from ..world.conditions import CONDITIONS
+from ..world.layout import room_count
 
 
 def map_drive(frames: np.ndarray, params: dict[str, Any]) -> tuple[Any, np.ndarray, dict]:
@@ -284,10 +287,10 @@ def main(argv: list[str] | None = None, prog: str = "placeclust seed001"
     from ..world.splits import add_scope_arguments, scope_seeds
     from .pool import run_all
 
-    p = argparse.ArgumentParser(prog=prog, description=__doc__,
-                                formatter_class=argparse.RawDescriptionHelpFormatter)
+    p = ArgumentParser(prog=prog, description=__doc__,
+                       formatter_class=argparse.RawDescriptionHelpFormatter)
     add_scope_arguments(p, n_scenes=4)
-    p.add_argument("--rooms", type=int, default=6)
+    p.add_argument("--rooms", type=room_count, default=6)
     p.add_argument("--steps-per-room", type=int, default=150)
     p.add_argument("--seed", type=int, default=0, help="the tour's start and route")
     p.add_argument("--second", choices=list(CONDITIONS), default="noisy",

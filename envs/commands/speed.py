@@ -25,6 +25,7 @@ import gymnasium as gym
 import mujoco
 import numpy as np
 
+from placeclust.argparsing import ArgumentParser
 from placeclust.docs_section import write_section
 
 from ..tasks.vector import make_vector_env
@@ -166,8 +167,8 @@ ROWS: tuple[tuple[int, int, int, dict[str, Any]], ...] = (
 
 def main(argv: list[str] | None = None, prog: str = "placeclust speed"
          ) -> None:
-    parser = argparse.ArgumentParser(prog=prog, description=__doc__,
-                                     formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser = ArgumentParser(prog=prog, description=__doc__,
+                            formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("--steps", type=int, default=100, help="calls per timing and round")
     parser.add_argument("--rounds", type=int, default=15, help="rounds of the three timings")
     parser.add_argument("--workers", type=int, default=2, help="AsyncVectorEnv workers")

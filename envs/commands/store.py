@@ -29,6 +29,7 @@ from typing import Any
 
 import numpy as np
 
+from placeclust import strict_json
 from placeclust.atomic import write_atomic
 
 ARRAYS = ("assignments", "truth")  # per-frame arrays of a run, stored beside its JSON
@@ -39,7 +40,8 @@ class RunStore:
     """Finished runs as ``folder/<key>.json``, written atomically (temp file, then rename).
 
     Args:
-        folder: where the runs are kept (made if missing).
+        folder: where the runs are kept, made with the first run kept: a command refused
+            before any run finishes leaves no empty folder behind.
         stamp: what a row must carry to be used again, computed from the row itself (its
             recognizer, agent...): :func:`envs.commands.bench.row_stamp`,
             :func:`envs.commands.closed_loop.stamp`. None: rows are neither stamped nor checked.
@@ -53,7 +55,6 @@ class RunStore:
 
     def __post_init__(self) -> None:
         self.folder = Path(self.folder)
-        self.folder.mkdir(parents=True, exist_ok=True)
 
     def get(self, key: str) -> dict | None:
         """The finished row of run ``key``, or None: not run, damaged (a torn write) or stale
@@ -78,13 +79,14 @@ class RunStore:
         The JSON is written last: its presence marks the run as done.
         """
         row = dict(row)
+        self.folder.mkdir(parents=True, exist_ok=True)
         if self.stamp is not None:
             row["stamp"] = self.stamp(row)
         # Any: numpy's stub would match the splat against savez's allow_pickle flag too
         arrays: dict[str, Any] = {k: np.asarray(row.pop(k)) for k in ARRAYS if k in row}
         if arrays:
             write_atomic(self.folder / f"{row['key']}.npz", lambda f: np.savez(f, **arrays))
-        text = json.dumps(row, indent=1, sort_keys=True).encode()
+        text = strict_json.dumps(row, indent=1, sort_keys=True).encode()
         write_atomic(self.folder / f"{row['key']}.json", lambda f: f.write(text))
         self._cache[row["key"]] = row
         return row

@@ -193,6 +193,24 @@ class FloorPlan:
         return r.center  # centres are kept free of furniture by construction
 
 
+def room_count(text: str) -> int:
+    """An argparse ``type`` for ``--rooms``: an integer in 1 to :data:`MAX_ROOMS`, refused
+    while the options are parsed, before any job starts or any folder is made.
+
+    >>> room_count("6")
+    6
+    """
+    import argparse
+
+    try:
+        n = int(text)
+    except ValueError:
+        n = 0
+    if not 1 <= n <= MAX_ROOMS:
+        raise argparse.ArgumentTypeError(f"a building has 1 to {MAX_ROOMS} rooms, got {text!r}")
+    return n
+
+
 def generate_floor_plan(
     n_rooms: int,
     rng: np.random.Generator,

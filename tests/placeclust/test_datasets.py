@@ -58,6 +58,8 @@ def test_missing_empty_and_unreadable_folders_are_named(tmp_path):
     with pytest.raises(DatasetError, match="does not exist"):
         ImageFolder(tmp_path / "nope")
     (tmp_path / "notes.txt").write_text("x")
+    with pytest.raises(DatasetError, match="notes.txt is a file; give the folder"):
+        ImageFolder(tmp_path / "notes.txt")  # not "does not exist": it does
     with pytest.raises(DatasetError, match="holds no image"):
         ImageFolder(tmp_path)
     (tmp_path / "000.png").write_text("not an image")

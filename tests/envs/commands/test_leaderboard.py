@@ -247,11 +247,11 @@ def test_a_run_says_at_once_what_it_will_run_and_what_it_kept(tmp_path, capsys):
              "n_rooms": 3, "tour_steps_per_room": 30} for s in (0, 1)]
     run_jobs(jobs[:1], tmp_path)  # a partial run: one job of two
     first = capsys.readouterr().err.splitlines()
-    assert first[0].startswith("errands: 1 jobs to run (a job: one recognizer's guided tour")
+    assert first[0].startswith("errands: 1 job to run (a job: one recognizer's guided tour")
     run_jobs(jobs, tmp_path)
     err = capsys.readouterr().err.splitlines()
-    assert err[0].startswith(f"errands: 1 jobs to run, 1 kept from an earlier run in {tmp_path}")
-    assert err[-1].startswith("errands: 1 jobs in")  # counted as jobs, not buildings
+    assert err[0].startswith(f"errands: 1 job to run, 1 kept from an earlier run in {tmp_path}")
+    assert err[-1].startswith("errands: 1 job in")  # counted as jobs, not buildings
 
 
 def test_the_lit_tracks_share_one_tour_and_the_corridor_tracks_another():
@@ -282,3 +282,100 @@ def test_the_freshness_probes_know_every_track_and_suite():
         assert fixed[fixed.index("--agent") + 1] == frozen.agent
         tracks = fixed[fixed.index("--track") + 1:] if "--track" in fixed else []
         assert tracks == [t for t in frozen.track_names if t != "long"]
+
+
+def test_ctrl_c_is_one_line_exit_130_and_keeps_the_finished_jobs(tmp_path, capsys,
+                                                                  monkeypatch):
+    """Fault caught: a traceback, or the first job's result lost, on Ctrl-C in the second."""
+    from envs.commands import cli
+
+    real = closed_loop._run_job
+    calls = []
+
+    def second_is_interrupted(job):
+        calls.append(job)
+        if len(calls) == 2:
+            raise KeyboardInterrupt
+        return real(job)
+
+    monkeypatch.setattr(closed_loop, "_run_job", second_is_interrupted)
+    argv = ["leaderboard", "--scene-seeds", "0", "1", "--rooms", "3", "--recognizers",
+            "oracle", "--goals-per-scene", "1", "--tour-steps-per-room", "30", "--workers",
+            "1", "--out", str(tmp_path)]
+    with pytest.raises(SystemExit) as stop:
+        cli.main(argv)
+    err = capsys.readouterr().err.strip().splitlines()
+    assert stop.value.code == 130
+    assert err[-1] == (f"interrupted: 1 finished job kept in {tmp_path / 'runs'}; the same "
+                       "command resumes from them")
+    assert not any("Traceback" in line for line in err)
+    assert len(list((tmp_path / "runs").glob("*.json"))) == 1
+    monkeypatch.setattr(closed_loop, "_run_job", real)
+    with pytest.raises(SystemExit) as stop:
+        cli.main(argv)  # resumed: only the interrupted job runs
+    assert stop.value.code == 0
+    assert "errands: 1 job to run, 1 kept from an earlier run" in capsys.readouterr().err
+
+
+@pytest.mark.parametrize("argv, message", [
+    (["--rooms", "0"], "argument --rooms: a building has 1 to 32 rooms, got '0'"),
+    (["--suite", "placenav-v9"], "argument --suite: invalid choice: 'placenav-v9'"),
+    (["--track", "nowhere"], "argument --track: invalid choice: 'nowhere'"),
+    (["--recognizers", "oracle-noise:abc"], "'oracle-noise:abc' is not an oracle name"),
+])
+def test_a_bad_option_is_one_line_exit_2_and_leaves_nothing(argv, message, tmp_path, capsys):
+    from envs.commands import cli
+
+    out = tmp_path / "out"
+    with pytest.raises(SystemExit) as stop:
+        cli.main(["leaderboard", "--scene-seeds", "0", *argv, "--out", str(out)])
+    err = capsys.readouterr().err.strip().splitlines()
+    assert stop.value.code == 2 and len(err) == 1 and message in err[0], err
+    assert not out.exists()
+
+
+def test_a_broken_stable_baselines3_is_one_line_and_leaves_nothing(tmp_path, capsys,
+                                                                    monkeypatch):
+    """Fault caught: an install that is present but fails to import (a torch that does not
+    load) passed the check and failed in every job with a traceback."""
+    import importlib
+    import importlib.util
+
+    real_spec, real_import = importlib.util.find_spec, importlib.import_module
+    monkeypatch.setattr(importlib.util, "find_spec", lambda name, *a: object()
+                        if name == "stable_baselines3" else real_spec(name, *a))
+
+    def broken(name, *a):
+        if name == "stable_baselines3":
+            raise OSError("libtorch_cpu.so: cannot open shared object file\nmore")
+        return real_import(name, *a)
+
+    monkeypatch.setattr(importlib, "import_module", broken)
+    from envs.commands import leaderboard as board
+
+    code = board.main(["--scene-seeds", "0", "--recognizers", "oracle", "--agent", "ppo",
+                       "--out", str(tmp_path / "out")])
+    err = capsys.readouterr().err.strip().splitlines()
+    assert code == 2 and len(err) == 1
+    assert "installed but does not import (OSError: libtorch_cpu.so" in err[0]
+    assert not (tmp_path / "out").exists()
+
+
+def test_a_one_building_results_file_is_strict_json_with_null_intervals(tmp_path):
+    """Fault caught: a bare NaN (not JSON: jq and JavaScript refuse the file) where an
+    interval of one building is undefined."""
+    from envs.commands.results import load_results, write_results
+
+    rows = run_jobs([{"scene_seed": 0, "recognizer": "oracle", "goals": 1, "seed": 0,
+                      "agent": "planner", "n_rooms": 3, "tour_steps_per_room": 30}],
+                    progress=False)
+    path = tmp_path / "results.json"
+    write_results(path, rows, ["oracle"], {}, {})
+
+    def refuse(constant):
+        raise AssertionError(f"{constant} is not JSON")
+
+    doc = json.loads(path.read_text(), parse_constant=refuse)
+    assert doc["summaries"][0]["success_rate_interval"] == [None, None]
+    back = load_results(path)["summaries"][0]["success_rate_interval"]
+    assert all(math.isnan(v) for v in back)  # read back as the undefined float it was

@@ -79,3 +79,19 @@ def test_pooled_workers_stop_when_the_benchmark_is_killed():
     while any(map(_alive, workers)) and time.monotonic() < deadline:
         time.sleep(0.2)
     assert not any(map(_alive, workers))
+
+
+def test_stopping_early_stops_the_running_jobs_at_once():
+    """Fault caught: Ctrl-C (or a failed job) waited for every running job, minutes each,
+    before the command could say anything; and the workers lived on."""
+    import multiprocessing
+
+    results = run_all(time.sleep, [0, 120, 120], workers=2)
+    assert next(results) == (0, None)
+    start = time.perf_counter()
+    results.close()  # what run_jobs does when Ctrl-C or an error ends its loop
+    assert time.perf_counter() - start < 30
+    deadline = time.time() + 30
+    while multiprocessing.active_children() and time.time() < deadline:
+        time.sleep(0.2)
+    assert not multiprocessing.active_children()
