@@ -38,21 +38,28 @@ def test_the_planner_runs_errands_on_true_rooms():
     assert 0.3 < row["spl"] <= 1.0
 
 
-def test_without_place_ids_the_planner_explores_and_never_crashes():
-    env = gym.make("PlaceNav-GuidedTour-v1", recognizer="none", n_errands=1, errand_steps=30,
+def test_without_place_ids_the_planner_explores():
+    """Fault caught: a planner that stands still (or turns on the spot) when no place is
+    known; it must set off and cover ground, its actions within the action space."""
+    env = gym.make("PlaceNav-GuidedTour-v1", recognizer="none", n_errands=1, errand_steps=60,
                    panorama_width=64, panorama_height=16, **SMALL)
     try:
         obs, info = env.reset(seed=0)
+        nav = env.unwrapped.nav
+        start = nav.robot.pose(nav.data)[:2].copy()
         planner = TourPlanner(unknown=env.unwrapped.max_places)
         planner.reset(info["tour"], obs)
         assert planner.names == {n: -1 for n in info["named"]}  # names attach to nothing
-        done = False
+        farthest, done = 0.0, False
         while not done:
             action = planner.act(obs)
             assert action in env.action_space
+            assert planner.exploring
             obs, _, done, _, info = env.step(action)
+            farthest = max(farthest, float(np.linalg.norm(nav.robot.pose(nav.data)[:2] - start)))
     finally:
         env.close()
+    assert farthest > 0.5  # 60 steps of 0.1 s: moving, not standing or spinning in place
 
 
 def test_a_hop_replays_the_tour_where_it_crossed():
