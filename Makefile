@@ -43,9 +43,9 @@ test-oldest: $(OLDEST)/.installed
 		-p no:cacheprovider tests/placeclust tests/envs tests/test_examples.py
 
 # Which tables of docs/benchmarks.md the code has changed under since they were measured
-# (placeclust.freshness; make test fails on one neither measured again nor marked stale there)
+# (docs.freshness; make test fails on one neither measured again nor marked stale there)
 docs-check: $(VENV)/.installed
-	$(PY) -m placeclust.freshness check
+	$(PY) -m docs.freshness check
 
 # The real corridor data set (shared/data, beside the clone) beside 4 val buildings, and the image
 # statistics of simulated forward tours with and without doors: about 10 minutes
@@ -157,9 +157,9 @@ benchmarks: $(VENV)/.installed
 		oracle-split:2 oracle-split:4 --out runs/v2-cal
 	$(VENV)/bin/placeclust score $(subst runs/v2/,runs/v2-cal/,$(V2_TRACKS)) \
 		--calibration docs/images/calibration_test.png $(DOCS) --section calibration-placenav-v2
-	$(PY) -m placeclust.freshness record --now $$($(PY) -c "from placeclust import freshness; \
+	$(PY) -m docs.freshness record --now $$($(PY) -c "from docs import freshness; \
 		print(*sorted(set(freshness.sections()) - set('$(VAL_PILOTS)'.split())))")
-	$(PY) -m placeclust.freshness check --write
+	$(PY) -m docs.freshness check --write
 
 # the benchmark matrix (envs/commands/bench.py): results.csv, results.md, precision.png, latency.png
 bench-quick: $(VENV)/.installed

@@ -1,7 +1,7 @@
 """Atomic file writes: a reader, or a process killed mid-write, sees the old file or the new one.
 
 Map files (:mod:`placeclust.mapfile`) and the benchmark's run store
-(``envs/commands/store.py``) both write this way.
+(``envs/runs/store.py``) both write this way.
 """
 
 from __future__ import annotations

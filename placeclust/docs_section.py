@@ -8,9 +8,9 @@ which command it was, when, and with which version), leaving the rest of the fil
     ...
     <!-- END GENERATED demo -->
 
-What each section depends on is recorded apart (:mod:`placeclust.freshness`): after a command
-rewrites a section, ``python -m placeclust.freshness record --now NAME`` traces it anew, and
-``python -m placeclust.freshness check`` tells which sections today's code would change.
+What each section depends on is recorded apart (:mod:`docs.freshness`): after a command
+rewrites a section, ``python -m docs.freshness record --now NAME`` traces it anew, and
+``python -m docs.freshness check`` tells which sections today's code would change.
 """
 
 from __future__ import annotations

@@ -9,7 +9,7 @@ from collections import Counter
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parent.parent
-PACKAGES = ("placeclust", "envs", "train")
+PACKAGES = ("placeclust", "envs", "train", "docs/freshness")
 
 
 def _modules() -> set[str]:
@@ -29,7 +29,7 @@ def test_the_module_map_names_every_module_and_only_those():
 
 
 def test_the_import_contracts_hold():
-    """Layers (train > commands > agents > tasks > world > placeclust), a library free of the
+    """Layers (train > commands > runs > agents > tasks > world > placeclust), a library free of the
     simulator, and no import circle among the modules of any package (imports inside
     functions included)."""
     lint = Path(sys.executable).with_name("lint-imports")

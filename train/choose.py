@@ -4,7 +4,7 @@
 
 Every checkpoint of the run (``checkpoints/ppo_<n>_steps.zip``, written by
 :mod:`train.train`) and its last ``policy.zip`` runs the closed loop's errands
-(:func:`envs.commands.closed_loop.run_scene`) on the same ``val`` buildings; the one with the
+(:func:`envs.runs.tour_errands.run_scene`) on the same ``val`` buildings; the one with the
 highest success (then SPL, then the later one) is copied to ``best_model.zip`` and every
 candidate's score, with its interval over buildings, goes to ``choice.json``. Nothing is chosen
 on ``test`` and the run's own files are left as they are.
@@ -27,8 +27,8 @@ from typing import Any
 
 import yaml
 
-from envs.commands.closed_loop import TOUR_STEPS_PER_ROOM, make_jobs, run_jobs, tour_task
-from envs.commands.results import summarize
+from envs.runs.jobs import TOUR_STEPS_PER_ROOM, make_jobs, run_jobs, tour_task
+from envs.runs.results import summarize
 from envs.world.layout import room_count
 from envs.world.scene import LAYOUTS
 from envs.world.splits import scenes

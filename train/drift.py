@@ -28,7 +28,7 @@ import numpy as np
 import envs  # noqa: F401  (registers the environments)
 from envs.agents.learned import LearnedAgent, config_path
 from envs.agents.tour_features import TourFeatures
-from envs.commands.results import policy_name, seed_span
+from envs.runs.results import policy_name, seed_span
 from envs.world.layout import room_count
 from envs.world.splits import scenes
 from placeclust.argparsing import ArgumentParser

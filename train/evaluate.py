@@ -4,7 +4,7 @@
         --episodes N --seed S [--json FILE] [--config YML --policies DIR]
 
 ``--task unseen`` scores a recognizer in buildings never seen instead (``placeclust errands``,
-:mod:`envs.commands.closed_loop`): a guided tour builds its map, then errands to the rooms the
+:mod:`envs.commands.errands`): a guided tour builds its map, then errands to the rooms the
 guide named.
 
 ``--agent all`` scores every agent with its shipped policy and prints a markdown table.
@@ -148,7 +148,7 @@ def main(argv: list[str] | None = None) -> int:
     pre = ArgumentParser(add_help=False)
     pre.add_argument("--task", choices=("reach", "unseen"), default="reach")
     if pre.parse_known_args(argv)[0].task == "unseen":
-        from envs.commands.closed_loop import main as unseen
+        from envs.commands.errands import main as unseen
 
         return unseen(argv)
     p = ArgumentParser(prog="python -m train.evaluate", description=__doc__,

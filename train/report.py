@@ -29,8 +29,7 @@ from collections.abc import Iterable
 from pathlib import Path
 from typing import Any
 
-from envs.commands.compare import differences
-from envs.commands.results import groups, load_results, policy_name, seed_span
+from envs.runs.results import differences, groups, load_results, policy_name, seed_span
 from placeclust.argparsing import ArgumentParser
 from placeclust.docs_section import write_section
 from placeclust.stats import Estimate, over_seeds

@@ -48,11 +48,11 @@ from placeclust.progress import plural
 from placeclust.realdata import dataset_kind, fingerprint
 from placeclust.runner import ALGORITHMS, check_params, recognizer_class
 
+from ..runs.pool import run_all
+from ..runs.store import RunStore
+from ..runs.suite import library_versions, render_fingerprint, sources_fingerprint
 from ..world.conditions import CONDITIONS
 from .bench_report import write_report
-from .pool import run_all
-from .store import RunStore
-from .suite import library_versions, render_fingerprint, sources_fingerprint
 
 
 @dataclass(frozen=True)
@@ -228,7 +228,7 @@ SIZES: dict[str, Matrix] = {
 @functools.cache
 def run_stamp(algo: str) -> dict[str, Any]:
     """What a kept run of ``algo`` must match to be used again: the library and simulator's
-    code (:func:`~envs.commands.suite.code_fingerprint`), this module, the source of a
+    code (:func:`~envs.runs.suite.code_fingerprint`), this module, the source of a
     ``package.module:Class`` recognizer, the library versions and the render fingerprint."""
     sources = [Path(__file__)]
     if ":" in algo:
@@ -241,7 +241,7 @@ LATENCY_ALGO = "online"  # the recognizer the latency sweeps time
 
 
 def row_stamp(row: dict[str, Any]) -> dict[str, Any]:
-    """The stamp a bench row gets and must keep (:class:`~envs.commands.store.RunStore`):
+    """The stamp a bench row gets and must keep (:class:`~envs.runs.store.RunStore`):
     :func:`run_stamp` of its recognizer (a latency sweep's: :data:`LATENCY_ALGO`)."""
     return run_stamp(row.get("algo", LATENCY_ALGO))
 

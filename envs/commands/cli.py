@@ -389,11 +389,11 @@ def build_parser() -> argparse.ArgumentParser:
 COMMANDS = {
     "leaderboard": (".leaderboard", "rank recognizers by errand success after a guided tour of "
                     "buildings never seen (the closed loop)"),
-    "errands": (".closed_loop", "one recognizer's errands after a guided tour of each building "
+    "errands": (".errands", "one recognizer's errands after a guided tour of each building "
                 "of a split"),
     "compare": (".compare", "two recognizers' results paired on the same buildings: the "
                 "differences with their intervals"),
-    "score": (".compare:score_main", "one suite score over closed-loop tracks, normalized "
+    "score": (".score", "one suite score over closed-loop tracks, normalized "
               "between no ids and the true rooms, with paired comparisons"),
     "seed001": (".seed001", "seed 001's experiment on its paper's forward camera"),
     "longrun": (".longrun", "the online recognizer in the loop for many steps"),

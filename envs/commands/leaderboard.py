@@ -7,16 +7,17 @@
     placeclust leaderboard --split val --n-scenes 16 --rooms 6 --goals-per-scene 10 ...
 
 Every recognizer maps every building of the split from a guided tour, and the same agent
-(:mod:`envs.agents.teach_repeat` by default) runs the same errands on each map
-(:func:`envs.commands.closed_loop.run_scene`). A suite (:mod:`envs.commands.suite`) fixes the
+(the suite's: ``planner`` in v1, ``relocalizer`` in v2, ``spot`` in v3; ``planner`` without a
+suite) runs the same errands on each map
+(:func:`envs.runs.tour_errands.run_scene`). A suite (:mod:`envs.runs.suite`) fixes the
 buildings, rooms, errands, tour length and seed, so results are comparable across machines and
 versions that render and simulate alike (the render and physics fingerprints every results file
-records; :func:`~envs.commands.suite.provenance`); without one, ``--split``/``--scene-seeds``
+records; :func:`~envs.runs.suite.provenance`); without one, ``--split``/``--scene-seeds``
 and the other options say what runs, and the results belong to no suite. The table puts task
 success beside the same maps' open-loop precision, NMI and places per room, each a mean with
 its 95% interval from a bootstrap over buildings (:mod:`placeclust.stats`), and
 ``success_vs_nmi.png`` plots one against the other.
-``OUT/results.json`` (:mod:`envs.commands.results`) holds every building's errands, the
+``OUT/results.json`` (:mod:`envs.runs.results`) holds every building's errands, the
 summaries and the provenance; ``placeclust compare`` pairs two recognizers from such files.
 A ``package.module:Class`` among the recognizers is one of your own, with ``--preset`` and
 ``--param`` as its constructor arguments; it is checked before any job starts.
@@ -24,7 +25,7 @@ A ``package.module:Class`` among the recognizers is one of your own, with ``--pr
 Each (recognizer, building) is one job on a ``spawn`` process pool or Ray; its result is kept in
 ``OUT/runs/``, so an interrupted run resumes where it stopped; a kept result is used again only
 if the code, libraries and rendering that made it are this run's
-(:func:`~envs.commands.closed_loop.stamp`). On one machine the jobs take ``--workers``
+(:func:`~envs.runs.jobs.stamp`). On one machine the jobs take ``--workers``
 processes; ``--executor ray`` with Ray's ``RAY_ADDRESS`` set spreads them over that cluster
 (every node with placeclust installed), and the rows come back to ``OUT`` here:
 
@@ -44,25 +45,8 @@ from placeclust.argparsing import ArgumentParser
 from placeclust.docs_section import write_section
 from placeclust.progress import plural
 
-from ..agents.errands import check_goals
-from ..tasks.recognizers import localizes
-from ..world.layout import room_count
-from ..world.splits import add_scope_arguments, scope_seeds
-from .closed_loop import (
-    ERRAND_AGENTS,
-    add_recognizer_arguments,
-    add_task_arguments,
-    check_agent,
-    make_jobs,
-    recognizer_params,
-    run_jobs,
-    run_settings,
-    split_tracks,
-    task_from_args,
-    track_jobs,
-)
-from .compare import load_tracks, score_table
-from .results import (
+from ..runs.jobs import make_jobs, run_jobs, split_tracks, track_jobs
+from ..runs.results import (
     TARGET_HALF_WIDTH,
     interval_text,
     policy_name,
@@ -70,11 +54,23 @@ from .results import (
     slug,
     write_results,
 )
-from .suite import SIZES, SUITES, TRACKS, get_suite, provenance
+from ..runs.suite import SIZES, SUITES, TRACKS, get_suite, provenance
+from ..runs.tour_errands import ERRAND_AGENTS, check_agent, check_goals
+from ..tasks.recognizers import localizes
+from ..world.layout import room_count
+from ..world.splits import add_scope_arguments, scope_seeds
+from .errands import (
+    add_recognizer_arguments,
+    add_task_arguments,
+    recognizer_params,
+    run_settings,
+    task_from_args,
+)
+from .score import load_tracks, score_table
 
 
 def leaderboard(summaries: list[dict[str, Any]]) -> str:
-    """The summaries (:func:`~envs.commands.results.summarize`) as a markdown table, best
+    """The summaries (:func:`~envs.runs.results.summarize`) as a markdown table, best
     first: each figure a mean with its 95% interval over buildings."""
     # image goals (PlaceNav-ImageGoal-v0) add the walking distance left at the errand's end
     left = all("final_distance" in s for s in summaries)
@@ -93,7 +89,7 @@ def leaderboard(summaries: list[dict[str, Any]]) -> str:
 
 def power_table(summaries: list[dict[str, Any]]) -> str:
     """How many buildings each recognizer needs for the target half-widths
-    (:data:`~envs.commands.results.TARGET_HALF_WIDTH`), from this run's spread of buildings,
+    (:data:`~envs.runs.results.TARGET_HALF_WIDTH`), from this run's spread of buildings,
     and what one building costs it: the pilot that sizes a suite (``docs/design.md``)."""
     targets = ", ".join(f"{k} ±{v}" for k, v in TARGET_HALF_WIDTH.items())
     lines = [f"| recognizer | buildings for {targets} | half-widths now | core-seconds per "
@@ -180,7 +176,7 @@ def suite_jobs(settings: dict[str | None, dict[str, Any]], recognizers: list[str
                **common: Any) -> list[dict[str, Any]]:
     """The jobs of several tracks whose buildings differ (a suite's tracks, each sized on its
     own): each building's tour serves every track that has that building
-    (:func:`~envs.commands.closed_loop.track_jobs`), so a smaller track costs no tours."""
+    (:func:`~envs.runs.jobs.track_jobs`), so a smaller track costs no tours."""
     serving: dict[int, list[str]] = {}
     for track, st in settings.items():
         for seed in st["scene_seeds"]:
@@ -199,7 +195,7 @@ def main(argv: list[str] | None = None, prog: str = "placeclust leaderboard"
     p = ArgumentParser(prog=prog, description=__doc__, allow_abbrev=False,
                        formatter_class=argparse.RawDescriptionHelpFormatter)
     p.add_argument("--suite", choices=sorted(SUITES), help="run a frozen suite: its buildings, "
-                   "rooms, errands, tours and seed (envs.commands.suite)")
+                   "rooms, errands, tours and seed (envs.runs.suite)")
     p.add_argument("--size", choices=SIZES, default="full", help="the suite's full size, its "
                    "quick check, or (placenav-v1) its long tours (default full)")
     add_scope_arguments(p, n_scenes=8, default_split="test")
@@ -219,7 +215,8 @@ def main(argv: list[str] | None = None, prog: str = "placeclust leaderboard"
                    help="a local process pool, or Ray: a local instance of --workers CPUs, or "
                    "the cluster at RAY_ADDRESS if set")
     p.add_argument("--docs", metavar="FILE", help="also write the table into FILE's section "
-                   "leaderboard-<suite or split>[-<size>][-<agent>] (docs/benchmarks.md)")
+                   "leaderboard-<suite or split>[-<size>][-<track>][-localize][-doors][-<agent>] "
+                   "(docs/benchmarks.md)")
     argv = sys.argv[1:] if argv is None else list(argv)
     args = p.parse_args(argv)
     settings = _settings(args, p, argv)
@@ -296,6 +293,7 @@ def _report(args: argparse.Namespace, prog: str, argv: list[str], rows: list[dic
         name += "" if args.size == "full" else f"-{args.size}"
         name += f"-{track}" if track else ""
         name += "-localize" if args.localize_only else ""
+        name += "-doors" if args.doors is not None else ""  # another building: its own table
         name += "" if args.agent == (suite.agent if suite else "planner") else f"-{args.agent}"
         if args.agent == "ppo" and args.policy:  # two policies' boards keep their own sections
             name += "-" + slug(policy_name(str(args.policy)))

@@ -284,8 +284,8 @@ def main(argv: list[str] | None = None, prog: str = "placeclust seed001"
     """``placeclust seed001``: seed 001's experiment over the buildings of a split."""
     from placeclust.runner import check_params, literal_params
 
+    from ..runs.pool import run_all
     from ..world.splits import add_scope_arguments, scope_seeds
-    from .pool import run_all
 
     p = ArgumentParser(prog=prog, description=__doc__,
                        formatter_class=argparse.RawDescriptionHelpFormatter)

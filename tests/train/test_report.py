@@ -4,7 +4,7 @@ import json
 
 import pytest
 
-from envs.commands.results import write_results
+from envs.runs.results import write_results
 from train.report import main
 
 PROVENANCE = {"suite": None, "size": "full", "definition": {},

@@ -213,7 +213,7 @@ noplace_lstm:
 
 def test_a_memory_agent_trains_on_tours_and_runs_in_the_closed_loop(tmp_path):
     pytest.importorskip("sb3_contrib")
-    from envs.commands.closed_loop import run_scene
+    from envs.runs.tour_errands import run_scene
 
     config = tmp_path / "tour.yml"
     config.write_text(TOUR)

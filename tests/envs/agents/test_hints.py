@@ -51,7 +51,7 @@ def test_a_zero_correction_drives_the_robot_as_the_planner_does():
 
 def test_the_shipped_policy_runs_errands_and_a_missing_one_is_named(tmp_path):
     pytest.importorskip("stable_baselines3")  # the train extra
-    from envs.commands.closed_loop import run_scene
+    from envs.runs.tour_errands import run_scene
 
     row = run_scene(3, n_rooms=3, recognizer="oracle", agent="ppo", goals=2, seed=0,
                     tour_steps_per_room=40)

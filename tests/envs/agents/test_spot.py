@@ -2,8 +2,8 @@ import gymnasium as gym
 import numpy as np
 import pytest
 
-from envs.agents.errands import check_goals, run_scene
 from envs.agents.spot import SpotPlanner
+from envs.runs.tour_errands import check_goals, run_scene
 
 TASK = {"goal_kind": "image", "tour_steps_per_room": 60}
 

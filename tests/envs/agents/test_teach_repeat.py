@@ -7,7 +7,7 @@ import pytest
 
 import envs  # noqa: F401
 from envs.agents.teach_repeat import TourPlanner, dead_reckon, guard
-from envs.commands.closed_loop import run_scene
+from envs.runs.tour_errands import run_scene
 from envs.tasks.records import TourRecord
 from envs.world.robot import MAX_RANGE, N_RANGES
 

@@ -6,7 +6,7 @@ import json
 import pytest
 
 from envs.commands import compare
-from envs.commands.results import load_results, write_results
+from envs.runs.results import load_results, write_results
 
 PROVENANCE = {"suite": "placenav-v1", "size": "quick", "definition": {},
               "versions": {"placeclust": "0.13.0", "mujoco": "4.0.0"},
@@ -134,41 +134,6 @@ def test_one_recognizer_after_short_and_long_tours_is_compared_by_size(results, 
     assert "compared anyway (--force): size: long against quick" in docs.read_text()
 
 
-def _track_file(tmp_path, track, success):
-    """A track's results: the floor, the ceiling and two recognizers on four buildings."""
-    rows = []
-    for name, per_building in success.items():
-        rows += [_row(name, s, per_building[s], 0.9) for s in range(4)]
-    path = tmp_path / track / "results.json"
-    write_results(path, rows, list(success), {**SETTINGS, "track": track}, PROVENANCE)
-    return path
-
-
-def test_the_suite_score_normalizes_tracks_and_pairs_two_recognizers(tmp_path, capsys):
-    one = [[1, 1, 1, 1]] * 4
-    half = [[1, 1, 0, 0]] * 4
-    zero = [[0, 0, 0, 0]] * 4
-    files = [_track_file(tmp_path, "carried", {"none": zero, "oracle": one, "good": one,
-                                                "poor": half}),
-             _track_file(tmp_path, "continued", {"none": half, "oracle": one, "good": one,
-                                                 "poor": half})]
-    assert compare.score_main([*map(str, files), "--pair", "good", "poor"]) == 0
-    out = capsys.readouterr().out
-    # carried: poor is halfway; continued: poor is at the floor
-    assert "| poor | 0.50 [0.50, 0.50] | 0.50 [0.50, 0.50] | 0.25 [0.25, 0.25] |" in out
-    assert "| good | 1.00 [1.00, 1.00] | 1.00 [1.00, 1.00] | 1.00 [1.00, 1.00] |" in out
-    assert "**0.750 [0.750, 0.750]**" in out and "the interval excludes 0" in out
-
-
-def test_the_suite_score_refuses_a_track_without_its_floor_or_twice(tmp_path, capsys):
-    one = [[1, 1, 1, 1]] * 4
-    path = _track_file(tmp_path, "carried", {"oracle": one, "good": one})
-    assert compare.score_main([str(path)]) == 2
-    assert "no 'none' rows" in capsys.readouterr().err
-    assert compare.score_main([str(path), str(path), "--floor", "good"]) == 2
-    assert "two files of track 'carried'" in capsys.readouterr().err
-
-
 def test_buildings_pair_by_seed_whatever_their_order_and_only_where_shared(tmp_path, capsys):
     # A on buildings 0-5 in one order, B on 2-7 in another: pairs are 2-5, building by building
     rows_a = [_row("a", s, [1, 1, 0, 0] if s % 2 else [1, 1, 1, 1], 0.9) for s in (5, 0, 3, 1,
@@ -206,29 +171,6 @@ def test_a_difference_whose_interval_straddles_zero_is_undecided(tmp_path, capsy
     low, high = (float(x) for x in line.split("|")[4].split("[")[1].rstrip("] ").split(","))
     assert low < 0 < high
     assert "cannot decide between a and b" in out and "read it as a pilot" not in out
-
-
-def test_calibration_gives_each_tracks_resolution_and_draws_its_curves(tmp_path, capsys):
-    one, zero = [[1, 1, 1, 1]] * 4, [[0, 0, 0, 0]] * 4
-    mixed = [[1, 1, 1, 1], [1, 0, 1, 1], [1, 1, 1, 1], [1, 1, 0, 1]]  # 2 of 16 lost: unsure
-    files = [_track_file(tmp_path, "carried", {
-        "none": zero, "oracle": one, "oracle-noise:0.05": mixed,
-        "oracle-noise:0.2": [[1, 0, 0, 0]] * 4, "oracle-split:2": one}),
-        _track_file(tmp_path, "continued", {"none": zero, "oracle": one,
-                                            "oracle-noise:0.05": one})]
-    figure = tmp_path / "curves.png"
-    assert compare.score_main([*map(str, files), "--calibration", str(figure)]) == 0
-    out = capsys.readouterr().out
-    assert "| carried | oracle-noise:0.2 | 0.25 [0.25, 0.25] | -0.750 [-0.750, -0.750] |" in out
-    # the smallest error told from the true rooms; a split that keeps every boundary is not
-    assert "carried: noise 0.2, split none up to 2; continued: noise none up to 0.05." in out
-    assert figure.stat().st_size > 10_000
-    assert compare.score_main([str(files[1]), "--floor", "none", "--calibration",
-                               str(figure)]) == 0  # a track with calibration rows alone
-    plain = _track_file(tmp_path / "p", "carried", {"none": zero, "oracle": one})
-    assert compare.score_main([str(plain), "--calibration", str(tmp_path / "x.png")]) == 2
-    assert "no calibration recognizer" in capsys.readouterr().err
-    assert not (tmp_path / "x.png").exists()
 
 
 def test_a_file_without_a_physics_fingerprint_is_refused_and_versions_are_noted(

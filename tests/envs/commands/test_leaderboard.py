@@ -7,10 +7,12 @@ import math
 import pytest
 
 import envs  # noqa: F401
-from envs.commands import closed_loop, suite
-from envs.commands.closed_loop import job_fingerprint, run_jobs
+from envs.commands import errands
 from envs.commands.leaderboard import leaderboard, rank_agreement
-from envs.commands.results import summarize
+from envs.runs import jobs as job_runs
+from envs.runs import suite
+from envs.runs.jobs import job_fingerprint, run_jobs
+from envs.runs.results import summarize
 from train import evaluate
 
 
@@ -45,9 +47,9 @@ def test_a_stale_result_is_run_again_and_said(tmp_path, monkeypatch, capsys, wha
     run_jobs(jobs, tmp_path, progress=False)
     (kept,) = (tmp_path / "runs").glob("*.json")
     stamp = kept.stat().st_mtime_ns
-    monkeypatch.setattr(closed_loop, what, changed)
+    monkeypatch.setattr(job_runs, what, changed)
     (row,) = run_jobs(jobs, tmp_path, progress=False)
-    assert kept.stat().st_mtime_ns != stamp and row["stamp"] == closed_loop.stamp(jobs[0])
+    assert kept.stat().st_mtime_ns != stamp and row["stamp"] == job_runs.stamp(jobs[0])
     assert "1 kept results" in capsys.readouterr().err
 
 
@@ -85,7 +87,7 @@ def test_evaluate_unseen_writes_a_results_file(tmp_path, capsys):
 
 
 def test_a_recognizer_of_your_own_runs_in_the_closed_loop(tmp_path):
-    from envs.commands.closed_loop import run_scene
+    from envs.runs.tour_errands import run_scene
 
     row = run_scene(0, n_rooms=3, recognizer="examples.tiny_recognizer:HaarPlaces", goals=1,
                     seed=0, recognizer_params={"threshold": 0.8}, tour_steps_per_room=40)
@@ -105,7 +107,7 @@ def test_a_recognizer_of_your_own_runs_in_the_closed_loop(tmp_path):
       "t_new_cluster=abc"], "t_new_cluster must be float"),
 ])
 def test_a_bad_recognizer_stops_the_errands_before_any_tour(argv, message, tmp_path, capsys):
-    code = closed_loop.main(["--scene-seeds", "0", "--rooms", "3", "--out", str(tmp_path),
+    code = errands.main(["--scene-seeds", "0", "--rooms", "3", "--out", str(tmp_path),
                              *argv])
     err = capsys.readouterr().err
     assert code == 2 and message in err and len(err.strip().splitlines()) == 1
@@ -115,16 +117,16 @@ def test_a_bad_recognizer_stops_the_errands_before_any_tour(argv, message, tmp_p
 def test_a_job_file_names_what_changes_it_and_hashes_the_rest():
     plain = {"scene_seed": 2000, "n_rooms": 6, "recognizer": "panorama", "agent": "planner",
              "goals": 5, "seed": 0}
-    assert closed_loop.job_key(plain) == "panorama-planner-scene2000-rooms6-goals5-seed0"
+    assert job_runs.job_key(plain) == "panorama-planner-scene2000-rooms6-goals5-seed0"
     own = {**plain, "recognizer": "mine:Places", "recognizer_params": {"threshold": 0.8}}
     other = {**own, "recognizer_params": {"threshold": 0.9}}
-    assert closed_loop.job_key(own) != closed_loop.job_key(other)
-    assert ":" not in closed_loop.job_key(own)
+    assert job_runs.job_key(own) != job_runs.job_key(other)
+    assert ":" not in job_runs.job_key(own)
 
 
 def test_errands_can_start_carried_in_a_corridor_and_say_so(tmp_path):
     out = tmp_path / "carried.json"
-    code = closed_loop.main(["--scene-seeds", "0", "--rooms", "3", "--recognizer", "oracle",
+    code = errands.main(["--scene-seeds", "0", "--rooms", "3", "--recognizer", "oracle",
                              "--goals-per-scene", "2", "--tour-steps-per-room", "40",
                              "--errand-start", "carried", "--layout", "corridor",
                              "--json", str(out)])
@@ -137,14 +139,14 @@ def test_errands_can_start_carried_in_a_corridor_and_say_so(tmp_path):
 
 def test_errands_run_in_buildings_with_doors_and_say_so(tmp_path, capsys):
     out = tmp_path / "doors.json"
-    code = closed_loop.main(["--scene-seeds", "1000", "--rooms", "3", "--recognizer", "oracle",
+    code = errands.main(["--scene-seeds", "1000", "--rooms", "3", "--recognizer", "oracle",
                              "--goals-per-scene", "2", "--tour-steps-per-room", "40",
                              "--doors", "1.0", "--json", str(out)])
     assert code == 0
     doc = json.loads(out.read_text())
     assert doc["settings"]["task"] == {"tour_steps_per_room": 40, "doors": 1.0}
     assert doc["buildings"][0]["success_rate"] == 1.0  # the true rooms get through the doors
-    assert closed_loop.main(["--scene-seeds", "1000", "--recognizer", "oracle", "--doors", "2",
+    assert errands.main(["--scene-seeds", "1000", "--recognizer", "oracle", "--doors", "2",
                              "--out", str(tmp_path / "bad")]) == 2
     assert not (tmp_path / "bad").exists()
     assert "--doors must be a fraction" in capsys.readouterr().err
@@ -153,10 +155,10 @@ def test_errands_run_in_buildings_with_doors_and_say_so(tmp_path, capsys):
 def test_two_policies_keep_two_job_files():
     job = {"scene_seed": 2000, "n_rooms": 6, "recognizer": "panorama-orb", "agent": "ppo",
            "goals": 5, "seed": 0}
-    a = closed_loop.job_key({**job, "policy": "runs/train/carried_place/policy.zip"})
-    b = closed_loop.job_key({**job, "policy": "runs/train/carried_oracle/policy.zip"})
+    a = job_runs.job_key({**job, "policy": "runs/train/carried_place/policy.zip"})
+    b = job_runs.job_key({**job, "policy": "runs/train/carried_oracle/policy.zip"})
     assert a != b and "carried_place" in a
-    chosen = closed_loop.job_key({**job, "policy": "runs/train/carried_place/best_model.zip"})
+    chosen = job_runs.job_key({**job, "policy": "runs/train/carried_place/best_model.zip"})
     assert "carried_place" in chosen  # train.choose's pick is named by its run too
 
 
@@ -180,11 +182,11 @@ def test_a_track_runs_its_errands_and_a_fixed_map_skips_who_cannot_localize(tmp_
 
 
 def test_a_track_refuses_an_option_that_contradicts_it(capsys):
-    code = closed_loop.main(["--scene-seeds", "0", "--rooms", "3", "--recognizer", "oracle",
+    code = errands.main(["--scene-seeds", "0", "--rooms", "3", "--recognizer", "oracle",
                              "--track", "long", "--tour-steps-per-room", "40"])
     err = capsys.readouterr().err
     assert code == 2 and "--track long sets tour_steps_per_room=500" in err
-    code = closed_loop.main(["--scene-seeds", "0", "--rooms", "3", "--localize-only",
+    code = errands.main(["--scene-seeds", "0", "--rooms", "3", "--localize-only",
                              "--recognizer", "examples.tiny_recognizer:HaarPlaces"])
     err = capsys.readouterr().err
     assert code == 2 and "cannot localize" in err and len(err.strip().splitlines()) == 1
@@ -219,7 +221,7 @@ def test_tracks_of_one_tour_share_it_and_report_apart(tmp_path, capsys):
 def test_a_missing_policy_is_named_before_any_folder_is_made(tmp_path, capsys):
     pytest.importorskip("stable_baselines3")  # without it, the missing extra is named first
     out = tmp_path / "out"
-    code = closed_loop.main(["--scene-seeds", "0", "--recognizer", "oracle", "--agent", "ppo",
+    code = errands.main(["--scene-seeds", "0", "--recognizer", "oracle", "--agent", "ppo",
                              "--policy", str(tmp_path / "none.zip"), "--out", str(out)])
     err = capsys.readouterr().err
     assert code == 2 and len(err.strip().splitlines()) == 1
@@ -255,8 +257,8 @@ def test_a_run_says_at_once_what_it_will_run_and_what_it_kept(tmp_path, capsys):
 
 
 def test_the_lit_tracks_share_one_tour_and_the_corridor_tracks_another():
-    from envs.commands.closed_loop import track_jobs
-    from envs.commands.suite import TRACKS, track_task
+    from envs.runs.jobs import track_jobs
+    from envs.runs.suite import TRACKS, track_task
 
     names = [n for n in TRACKS if n != "long"]
     jobs = track_jobs([0, 1], ["oracle"], {n: track_task(n) for n in names}, n_rooms=3,
@@ -271,8 +273,8 @@ def test_the_lit_tracks_share_one_tour_and_the_corridor_tracks_another():
 
 
 def test_the_freshness_probes_know_every_track_and_suite():
-    from envs.commands.suite import SUITES, TRACKS
-    from placeclust.freshness.probes import SUITE_OPTIONS, TRACK_NAMES
+    from docs.freshness.probes import SUITE_OPTIONS, TRACK_NAMES
+    from envs.runs.suite import SUITES, TRACKS
 
     assert TRACK_NAMES == tuple(TRACKS)  # a new track's results get their stand-in
     # a suite's section is traced with the agent and tracks the suite runs (long aside)
@@ -289,7 +291,7 @@ def test_ctrl_c_is_one_line_exit_130_and_keeps_the_finished_jobs(tmp_path, capsy
     """Fault caught: a traceback, or the first job's result lost, on Ctrl-C in the second."""
     from envs.commands import cli
 
-    real = closed_loop._run_job
+    real = job_runs._run_job
     calls = []
 
     def second_is_interrupted(job):
@@ -298,7 +300,7 @@ def test_ctrl_c_is_one_line_exit_130_and_keeps_the_finished_jobs(tmp_path, capsy
             raise KeyboardInterrupt
         return real(job)
 
-    monkeypatch.setattr(closed_loop, "_run_job", second_is_interrupted)
+    monkeypatch.setattr(job_runs, "_run_job", second_is_interrupted)
     argv = ["leaderboard", "--scene-seeds", "0", "1", "--rooms", "3", "--recognizers",
             "oracle", "--goals-per-scene", "1", "--tour-steps-per-room", "30", "--workers",
             "1", "--out", str(tmp_path)]
@@ -310,7 +312,7 @@ def test_ctrl_c_is_one_line_exit_130_and_keeps_the_finished_jobs(tmp_path, capsy
                        "command resumes from them")
     assert not any("Traceback" in line for line in err)
     assert len(list((tmp_path / "runs").glob("*.json"))) == 1
-    monkeypatch.setattr(closed_loop, "_run_job", real)
+    monkeypatch.setattr(job_runs, "_run_job", real)
     with pytest.raises(SystemExit) as stop:
         cli.main(argv)  # resumed: only the interrupted job runs
     assert stop.value.code == 0
@@ -364,7 +366,7 @@ def test_a_broken_stable_baselines3_is_one_line_and_leaves_nothing(tmp_path, cap
 def test_a_one_building_results_file_is_strict_json_with_null_intervals(tmp_path):
     """Fault caught: a bare NaN (not JSON: jq and JavaScript refuse the file) where an
     interval of one building is undefined."""
-    from envs.commands.results import load_results, write_results
+    from envs.runs.results import load_results, write_results
 
     rows = run_jobs([{"scene_seed": 0, "recognizer": "oracle", "goals": 1, "seed": 0,
                       "agent": "planner", "n_rooms": 3, "tour_steps_per_room": 30}],

@@ -86,7 +86,7 @@ def test_seed_001_gets_its_forward_camera_and_bad_names_are_refused():
 
 
 def test_an_errand_starts_a_metre_or_more_of_walking_from_its_goal():
-    from envs.commands.closed_loop import run_scene
+    from envs.runs.tour_errands import run_scene
 
     def errands(**kw):
         return run_scene(0, n_rooms=3, recognizer="oracle", goals=6, seed=0,

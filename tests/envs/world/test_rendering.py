@@ -139,7 +139,7 @@ def test_the_renderer_draws_the_stored_reference_pixels():
     import json
     from pathlib import Path
 
-    from envs.commands.suite import render_fingerprint, renderer_info
+    from envs.runs.suite import render_fingerprint, renderer_info
 
     stored = json.loads((Path(__file__).parent / "render_reference.json").read_text())
     here = renderer_info()
@@ -159,7 +159,7 @@ def test_the_simulator_drives_the_stored_reference_path():
 
     import mujoco
 
-    from envs.commands.suite import physics_fingerprint
+    from envs.runs.suite import physics_fingerprint
 
     stored = json.loads((Path(__file__).parent / "physics_reference.json").read_text())
     here = {"mujoco": mujoco.__version__, "machine": platform.machine()}

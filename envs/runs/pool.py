@@ -5,7 +5,7 @@ The benchmark matrix (:mod:`envs.commands.bench`) and the closed-loop leaderboar
 back.
 
 Examples:
-    >>> from envs.commands.pool import run_all
+    >>> from envs.runs.pool import run_all
     >>> sorted(result for _, result in run_all(abs, [-2, 1, -3], workers=1))
     [1, 2, 3]
 """

@@ -8,7 +8,7 @@ import mujoco
 import pytest
 
 from envs.commands import leaderboard
-from envs.commands.suite import (
+from envs.runs.suite import (
     SUITES,
     get_suite,
     physics_fingerprint,
@@ -34,7 +34,7 @@ def test_a_suite_reports_on_test_buildings_and_is_frozen():
 
 
 def test_placenav_v2_runs_every_track_with_the_relocalizer():
-    from envs.commands.suite import TRACKS
+    from envs.runs.suite import TRACKS
 
     suite = get_suite("placenav-v2")
     assert suite.track_names == list(TRACKS) and suite.agent == "relocalizer"
@@ -68,7 +68,7 @@ def test_a_suite_fixes_its_buildings_and_errands(capsys):
 
 def _tracked(**sizes: int):
     """A suite of tracks, each sized on its own, like placenav-v2."""
-    from envs.commands.suite import Suite
+    from envs.runs.suite import Suite
 
     return Suite(name="tracked-v0", env_id="PlaceNav-GuidedTour-v1", split="test",
                  n_buildings=0, n_quick=1, n_long=0, n_rooms=3, goals=1, seed=0,
@@ -94,7 +94,7 @@ def test_a_suite_of_tracks_sizes_each_track_on_its_own():
 
 
 def test_a_suites_smaller_track_costs_no_tour_of_its_own(monkeypatch):
-    from envs.commands.suite import track_task
+    from envs.runs.suite import track_task
 
     suite = _tracked(continued=3, carried=2, corridor=1)
     settings = {t: {"scene_seeds": suite.scene_seeds("full", t), "task": suite.task(track=t)}

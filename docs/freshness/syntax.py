@@ -1,6 +1,6 @@
 """Fingerprints of code as syntax: what a traced run of a command depends on.
 
-A traced run (:mod:`placeclust.freshness.probes`) names the functions of the repository that
+A traced run (:mod:`docs.freshness.probes`) names the functions of the repository that
 ran. Their fingerprint is their ``ast.unparse`` without docstrings or argparse ``help=`` texts,
 with the module-level statements that code can reach (constants, imports, class attributes,
 registration calls), followed across imports to where a name is defined: so rewording a
@@ -27,7 +27,7 @@ from collections.abc import Callable
 from pathlib import Path
 from typing import Any
 
-from placeclust.freshness.probes import ROOT
+from docs.freshness.probes import ROOT
 
 
 def _strip_docstrings(tree: ast.AST) -> None:

@@ -9,7 +9,7 @@ robot otherwise changes it, though it may draw the same pixels. So a result from
 machine says whether it is comparable (:func:`provenance`, checked by ``placeclust compare``).
 
 Examples:
-    >>> from envs.commands.suite import SUITES
+    >>> from envs.runs.suite import SUITES
     >>> suite = SUITES["placenav-v1"]
     >>> suite.split, suite.n_rooms, suite.goals
     ('test', 6, 5)

@@ -1,14 +1,14 @@
 """The benchmarks' store of finished runs: a JSON file (and the per-frame arrays) per run.
 
 One store serves the open-loop bench (:mod:`envs.commands.bench`) and the closed-loop
-errands and leaderboard (:mod:`envs.commands.closed_loop`). A run's file is written atomically
+errands and leaderboard (:mod:`envs.commands.errands`). A run's file is written atomically
 and last, so its presence marks the run as done; each row carries the stamp of the code,
 libraries and rendering that made it, ``stamp(row)``, and a kept row whose stamp is not the
 one its run would get now is stale: :meth:`RunStore.get` does not return it, and counts it.
 
 Examples:
     >>> import tempfile
-    >>> from envs.commands.store import RunStore
+    >>> from envs.runs.store import RunStore
     >>> store = RunStore(tempfile.mkdtemp(), stamp=lambda row: {"code": "v1"})
     >>> store.put({"key": "k", "algo": "online", "precision": 1.0})["stamp"]
     {'code': 'v1'}
@@ -44,7 +44,7 @@ class RunStore:
             before any run finishes leaves no empty folder behind.
         stamp: what a row must carry to be used again, computed from the row itself (its
             recognizer, agent...): :func:`envs.commands.bench.row_stamp`,
-            :func:`envs.commands.closed_loop.stamp`. None: rows are neither stamped nor checked.
+            :func:`envs.runs.jobs.stamp`. None: rows are neither stamped nor checked.
     """
 
     folder: Path

@@ -3,7 +3,7 @@
 :func:`run_scene` builds ``PlaceNav-GuidedTour-v1`` for a building and a recognizer, runs the
 tour, and lets an agent of :data:`ERRAND_AGENTS` run the errands on the tour's map (or, with
 ``tracks``, every track's errands from that one tour); the commands
-(:mod:`envs.commands.closed_loop`, :mod:`envs.commands.leaderboard`) run it per building.
+(:mod:`envs.commands.errands`, :mod:`envs.commands.leaderboard`) run it per building.
 
 Examples:
     >>> row = run_scene(0, n_rooms=3, recognizer="oracle", goals=2, seed=0,
@@ -24,14 +24,14 @@ from typing import Any, cast
 import gymnasium as gym
 import numpy as np
 
+from ..agents import hints
+from ..agents.learned import LearnedAgent
+from ..agents.relocalize import RelocalizingPlanner
+from ..agents.spot import SpotPlanner
+from ..agents.teach_repeat import TourPlanner
 from ..tasks.guided_tour import GuidedTourEnv
 from ..tasks.recognizers import check_recognizer_name
 from ..world.textures import ASSETS
-from . import hints
-from .learned import LearnedAgent
-from .relocalize import RelocalizingPlanner
-from .spot import SpotPlanner
-from .teach_repeat import TourPlanner
 
 #: agents that run errands on a guided tour's map: ``planner`` (teach and repeat, v1's),
 #: ``relocalizer`` (the planner that finds where it is again on the tour's scans: carried

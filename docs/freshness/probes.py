@@ -1,5 +1,5 @@
 """Tiny runs of the commands that write ``docs/benchmarks.md``, traced for
-:mod:`placeclust.freshness`.
+:mod:`docs.freshness`.
 
 A section's *probe* is its own command line at a tiny size: the same subcommand, recognizers,
 features, conditions, doors and parameters, on one building of two rooms with a few frames (two
@@ -79,11 +79,11 @@ STAND_IN_PLAIN = "placeclust leaderboard --recognizers oracle none panorama pano
 #: the options by which a reading command names recognizers (``compare --a``, ``score --pair``):
 #: one the stand-in lacks, a user's ``module:Class``, joins it with its constructor's defaults
 NAMING = ("--a", "--b", "--pair", "--floor", "--ceiling")
-#: the closed loop's tracks (``envs.commands.suite.TRACKS``, which this library cannot import;
+#: the closed loop's tracks (``envs.runs.suite.TRACKS``, which this library cannot import;
 #: a test keeps the two alike)
 TRACK_NAMES = ("continued", "changed-night", "changed-cloudy", "changed-moved", "carried",
                "corridor", "corridor-carried", "long")
-#: what a suite fixes beyond its buildings and size (``envs.commands.suite.SUITES``; a test
+#: what a suite fixes beyond its buildings and size (``envs.runs.suite.SUITES``; a test
 #: keeps the two alike): its agent and its tracks, less ``long``, the same code as the others
 #: after a longer tour (which traced would take minutes)
 SUITE_OPTIONS = {"placenav-v1": "--agent planner",
@@ -345,7 +345,7 @@ def trace_command(argv: list[str], scratch: Path, read_by_none: bool = False
     if not target.exists():
         env = {**os.environ, "PYTHONPATH": os.pathsep.join(
             [str(ROOT), *filter(None, [os.environ.get("PYTHONPATH")])])}
-        done = subprocess.run([sys.executable, "-m", "placeclust.freshness", "_trace",
+        done = subprocess.run([sys.executable, "-m", "docs.freshness", "_trace",
                                str(target), "--", *argv], cwd=ROOT, env=env,
                               capture_output=True, text=True)
         if done.returncode != 0:
@@ -384,11 +384,11 @@ def probe_runs(name: str, commands: dict[str, list[str]], scratch: Path) -> list
 
 
 def trace_main(argv: list[str]) -> int:
-    """``python -m placeclust.freshness _trace OUT -- COMMAND...``: run one command traced,
+    """``python -m docs.freshness _trace OUT -- COMMAND...``: run one command traced,
     write what it ran to OUT (a JSON file); :func:`trace_command` calls it in a process of its
     own."""
     if len(argv) < 3 or argv[1] != "--":
-        print("usage: python -m placeclust.freshness _trace OUT -- COMMAND ...", file=sys.stderr)
+        print("usage: python -m docs.freshness _trace OUT -- COMMAND ...", file=sys.stderr)
         return 2
     try:
         with traced() as found:

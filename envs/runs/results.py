@@ -183,3 +183,24 @@ def resolution(points: list[dict[str, Any]], track: str) -> str:
         parts.append(f"{kind} {min(seen):g}" if seen else
                      f"{kind} none up to {max(q['value'] for q in tried):g}")
     return ", ".join(parts)
+
+
+#: settings that say who acted, not what was measured: results differing in them compare
+AGENT_KEYS = ("recognizers", "agent", "policy")
+
+
+def differences(a: dict[str, Any], b: dict[str, Any]) -> list[str]:
+    """What makes two results files incomparable: suite, settings, render, physics."""
+    found = []
+    pa, pb = a["provenance"], b["provenance"]
+    for key in ("suite", "size", "render_fingerprint", "physics_fingerprint"):
+        if pa.get(key) != pb.get(key):  # older files record no physics fingerprint
+            found.append(f"{key}: {pa.get(key, 'not recorded')} against "
+                         f"{pb.get(key, 'not recorded')}")
+    # what runs on the buildings, recognizer and agent, is what a comparison is about
+    sa = {k: v for k, v in a["settings"].items() if k not in AGENT_KEYS}
+    sb = {k: v for k, v in b["settings"].items() if k not in AGENT_KEYS}
+    for key in sorted(set(sa) | set(sb)):
+        if sa.get(key) != sb.get(key):
+            found.append(f"settings {key}: {sa.get(key)} against {sb.get(key)}")
+    return found

@@ -5,7 +5,7 @@ from pathlib import Path
 
 import pytest
 
-from envs.commands.pool import run_all
+from envs.runs.pool import run_all
 
 
 def test_every_job_comes_back_with_its_result_in_process_and_pooled():
@@ -62,7 +62,7 @@ def _children(pid: int) -> list[int]:
 
 @pytest.mark.skipif(not sys.platform.startswith("linux"), reason="the kernel's parent-death signal")
 def test_pooled_workers_stop_when_the_benchmark_is_killed():
-    script = ("import time; from envs.commands.pool import run_all; "
+    script = ("import time; from envs.runs.pool import run_all; "
               "list(run_all(time.sleep, [60, 60], 2))")
     parent = subprocess.Popen([sys.executable, "-c", script],
                               cwd=Path(__file__).resolve().parents[3])

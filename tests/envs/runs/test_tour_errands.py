@@ -1,4 +1,4 @@
-from envs.agents.errands import run_scene
+from envs.runs.tour_errands import run_scene
 
 TINY = {"n_rooms": 3, "goals": 3, "recognizer": "oracle", "agent": "relocalizer",
         "tour_steps_per_room": 40, "errand_steps": 120, "panorama_width": 64,

@@ -1,0 +1,43 @@
+"""The generated sections that a claim cites: they stay current (:mod:`docs.freshness.check`).
+
+A section is cited when the README or ``docs/design.md`` states one of its figures as what the
+project measures today. Every other section of ``docs/benchmarks.md`` is a dated record. Add a
+section here when a claim starts citing it; drop it when no claim does.
+"""
+
+#: section name -> where a claim cites it
+CITED: dict[str, str] = {
+    "demo": "README: `make demo`: 0.972 / 0.896 / 5",
+    "panorama-test": "README: | `PANORAMA`, SIFT | 0.985 [0.981, 0.991] (0.948)",
+    "panorama-orb-test": "README: | `PANORAMA_ORB`, ORB | 0.975 [0.971, 0.980] (0.941)",
+    "matched-online": "design.md: method is compared with the others at matched numbers of pla",
+    "matched-rooms": "design.md: method is compared with the others at matched numbers of pla",
+    "seed001-test": "README: **Seed 001 on its paper's camera** (`make seed001`, 4 `test`",
+    "corridor": "README: holding a correct reference: the paper's defaults 0.52, with",
+    "image-stats": "design.md: them (`placeclust stats`, 'How alike the places look': next",
+    "image-stats-100": "design.md: matches across rooms with doors fall to a 90th percentile of",
+    "seed001-test-doors": "design.md: location it leaves about as often as frames within a room ma",
+    "seed001-test-doors-100": "README: frame (`--doors 1.0 --param max_features=100`) 0.930 [0.91…",
+    "panorama-test-doors": "design.md: `PANORAMA` keeps its bar with doors opening at 0.5 m: on t…",
+    "simulator": "design.md: 1.95× against 1.84× in another (`placeclust speed`, `docs/be",
+    "leaderboard-val": "design.md: The pilot and its figures are in `docs/benchmarks.md` ('How",
+    "compare-placenav-v1": "design.md: (`PANORAMA` and `PANORAMA_ORB` 0.013 [−0.037, 0.073] apart…",
+    "agents-carried-grid": "README: **Learned agents** (`make agents-tour`, 20 `test` buildings,",
+    "agents-drift": "design.md: over 20 continued errands its dead reckoning ends metres off",
+    "score-pilot-val": "design.md: (`docs/benchmarks.md`, 'Tracks: a first pilot'): continued `",
+    "lit-panorama": "design.md: Open loop, `PANORAMA` on the same 4 `val` buildings lit (`do",
+    "lit-paper": "design.md: (4 buildings: a pilot); the paper's defaults `day>night` +0.",
+    "score-pilot-lit-val": "design.md: Closed loop, lit (`docs/benchmarks.md`, 'The tracks in lit…",
+    "leaderboard-val-corridor-carried-relocalizer": "design.md: ranks these two (measured again w…",
+    "compare-val-corridor-carried": "design.md: [0.53, 0.80], paired −0.033 [−0.217, 0.167], 95–1…",
+    "calibration-corridor-carried-val": "design.md: it cuts them. On 6 `val` buildings `oracle-sp…",
+    "calibration-tracks-val": "design.md: resolve what the calibration says the track does resolv…",
+    "score-placenav-v2": "README: **Errands in buildings never seen** (`make leaderboard`: `pl",
+    "leaderboard-placenav-v2-continued": "design.md: - `continued`: by 0.083 [0.017, 0.267], with…",
+    "leaderboard-placenav-v2-corridor": "design.md: `PANORAMA_ORB` cuts 5.6 places a room (NMI 0.…",
+    "score-placenav-v2-paper": "README: `continued` and every changed condition (+0.05 to +0.15)…",
+    "calibration-placenav-v2": "README: Tracks see 1% of frames aliased, not finer rooms; rows ho…",
+    "leaderboard-val-continued-spot": "README: **Errands to a picture** (`placenav-v3`'s `val` p",
+    "leaderboard-val-carried-spot": "README: **Errands to a picture** (`placenav-v3`'s `val` p",
+    "score-pilot-v3-val": "README: **Errands to a picture** (`placenav-v3`'s `val` pilot, 6 bui",
+}

@@ -1,0 +1,175 @@
+"""Whether a code change changes what a section's command computes: its probe, run twice.
+
+A section whose fingerprint moved (:func:`docs.freshness.check.status`) ran code that has
+changed since it was measured, which says nothing yet about its figures: most edits (a clearer
+message, a renamed helper, a new option) leave them as they were. :func:`verify` decides by
+measurement instead of by trace: it runs the section's probe (its own command line at a tiny
+size, with the runs that make its inputs, :func:`docs.freshness.probes.probe_runs`) once with
+the code of the commit that wrote the section and once with today's, each writing its tables
+into a scratch copy of the docs, and compares the two texts with their timings masked
+(:func:`comparable_text`). The same text: the section is current again, today's fingerprint
+recorded with the verdict. Another text: it is stale, and listed as such with the first line
+that differs.
+
+    python -m docs.freshness verify            # every section whose code moved
+    python -m docs.freshness verify NAME ...   # these
+
+A probe is one building of two rooms and a few frames, so it sees what that size reaches: a
+change that moves only a full-size figure (a branch a tiny run never takes) passes unseen,
+as it does the trace.
+
+Examples:
+    >>> comparable_text("_`placeclust demo` · 2026-11-29 · placeclust 0.16.0_\\n"
+    ...                 "| precision | ms per frame |\\n|---|---|\\n| 0.97 | 41.2 |\\n"
+    ...                 "12 minutes of one core in all.")
+    '| precision | ms per frame |\\n|---|---|\\n| 0.97 | ~ |\\n~ of one core in all.'
+"""
+
+from __future__ import annotations
+
+import hashlib
+import json
+import os
+import re
+import shlex
+import subprocess
+import sys
+from collections.abc import Callable
+from pathlib import Path
+from typing import Any
+
+from docs.freshness import probes
+from docs.freshness.probes import ROOT
+
+#: a stamp line: command, date, versions, machine (never the same twice)
+_STAMP = re.compile(r"^_`.*` · .*_$", re.M)
+#: a duration or a rate in prose: a number and its unit
+_DURATION = re.compile(r"\d+(?:\.\d+)?(?:\s*[-–]\s*\d+(?:\.\d+)?)?\s*(?:core-seconds?|core-hours?"
+                       r"|minutes?|seconds?|hours?|min|ms|s|h)\b(?!-)")
+#: a package's version, which the code that measured a table and today's may print otherwise
+_VERSION = re.compile(r"\b(placeclust|MuJoCo|mujoco) \d+\.\d+(?:\.\d+)?")
+#: a table column of timings, by its header
+_TIMED = re.compile(r"second|minute|hour|\bms\b|ms_per|time|speed|per s\b|fps|cost|×|ratio"
+                    r"|latency|core", re.I)
+
+
+def comparable_text(text: str) -> str:
+    """A section's text as two runs of the same code print it alike: without its stamp line,
+    and with every timing (a table column headed as one, a duration in prose) as ``~``."""
+    text = _VERSION.sub(r"\1 ~", _STAMP.sub("", text))  # a figure is not its version
+    lines = text.strip("\n").split("\n")
+    timed: set[int] = set()
+    out = []
+    for line in lines:
+        if line.startswith("|"):
+            cells = line.strip().strip("|").split("|")
+            if set(line) <= set("|-: "):
+                out.append(line)
+                continue
+            if any(_TIMED.search(c) for c in cells) and not any(
+                    re.search(r"\d", c) for c in cells[1:]):
+                timed = {i for i, c in enumerate(cells) if _TIMED.search(c)}  # a header row
+            else:
+                cells = [" ~ " if i in timed else c for i, c in enumerate(cells)]
+            out.append("|" + "|".join(cells) + "|")
+        else:
+            timed = set()
+            out.append(_DURATION.sub("~", line))
+    return "\n".join(out)
+
+
+def _absolute(argv: list[str]) -> list[str]:
+    """Arguments naming a file of the repository (``../shared/data/...``, ``assets/...``) as
+    absolute paths, so the command runs from another checkout."""
+    out = []
+    for token in argv:
+        head, eq, tail = token.rpartition("=") if token.startswith("--") else ("", "", token)
+        if tail and not tail.startswith("-") and not Path(tail).is_absolute() \
+                and (ROOT / tail).exists():
+            tail = str((ROOT / tail).resolve())
+        out.append(head + eq + tail)
+    return out
+
+
+def _command(argv: list[str]) -> list[str]:
+    """A probe's command line as a process of the checkout on ``PYTHONPATH``."""
+    if argv[:2] == ["python", "-m"]:
+        return [sys.executable, "-m", *argv[2:]]
+    return [sys.executable, "-m", "envs.commands.cli", *argv[1:]]
+
+
+def probe_text(name: str, commands: dict[str, list[str]], tree: Path, scratch: Path) -> str:
+    """The tables section ``name``'s probe writes with the code of checkout ``tree``,
+    :func:`comparable_text` of them (every section the probe's own run writes, in order),
+    kept in ``scratch`` for the other sections of the same command line.
+
+    Raises:
+        RuntimeError: a run failed; its last line of error says why.
+    """
+    scratch.mkdir(parents=True, exist_ok=True)
+    runs = probes.probe_runs(name, commands, scratch)
+    section = [t for o, v in probes._options(commands[name]) if o == "--section"
+               for t in ["--section", *v]]
+    # sections of one command line (a suite's tracks) share one probe: run it once a checkout
+    key = hashlib.sha256(json.dumps([str(tree), runs, section]).encode()).hexdigest()[:12]
+    kept = scratch / f"text-{key}.txt"
+    if kept.exists():
+        return kept.read_text()
+    docs = scratch / f"probe-{key}.md"
+    docs.unlink(missing_ok=True)
+    env = {**os.environ, "PYTHONPATH": str(tree), "MUJOCO_GL": os.environ.get("MUJOCO_GL",
+                                                                            "egl")}
+    for i, run in enumerate(runs):
+        argv = _absolute(run) + (["--docs", str(docs), *section] if i == len(runs) - 1 else [])
+        done = subprocess.run(_command(argv), cwd=tree, env=env, capture_output=True, text=True)
+        if done.returncode != 0:
+            last = (done.stderr.strip().splitlines() or ["no message"])[-1]
+            raise RuntimeError(f"`{shlex.join(run)}` failed in {tree}: {last}")
+    if not docs.exists():
+        raise RuntimeError(f"the probe of {name} wrote no section")
+    kept.write_text(comparable_text(docs.read_text()))
+    return kept.read_text()
+
+
+def checkout(commit: str, scratch: Path) -> Path:
+    """A detached worktree of ``commit`` under ``scratch`` (made once, kept)."""
+    tree = scratch / f"tree-{commit[:12]}"
+    if not tree.exists():
+        subprocess.run(["git", "worktree", "add", "--detach", "--force", str(tree), commit],
+                       cwd=ROOT, check=True, capture_output=True)
+    return tree
+
+
+def first_difference(a: str, b: str) -> str:
+    """The first line where ``a`` and ``b`` differ, as ``then → now``."""
+    for old, new in zip(a.split("\n") + [""], b.split("\n") + [""]):
+        if old != new:
+            return f"{old.strip()[:120]!r} → {new.strip()[:120]!r}"
+    return "none"
+
+
+def verdict(name: str, entry: dict[str, Any], commands: dict[str, list[str]], scratch: Path
+            ) -> tuple[bool, str]:
+    """``(same, what)``: whether today's code writes the probe of ``name`` as the code of the
+    commit that measured it did, and the first difference if not.
+
+    Raises:
+        ValueError: the section was recorded from a tree no commit holds (nothing to run).
+        RuntimeError: a probe failed.
+    """
+    commit = entry.get("commit")
+    if not commit:
+        raise ValueError(f"{name} was measured by code no commit holds; measure it again")
+    then = probe_text(name, commands, checkout(commit, scratch), scratch / "then" / commit[:12])
+    now = probe_text(name, commands, ROOT, scratch / "now")
+    return then == now, first_difference(then, now)
+
+
+def remove_checkouts(scratch: Path) -> None:
+    """Drop the worktrees :func:`checkout` made under ``scratch``."""
+    for tree in scratch.glob("tree-*"):
+        subprocess.run(["git", "worktree", "remove", "--force", str(tree)], cwd=ROOT,
+                       capture_output=True)
+
+
+Log = Callable[[str], None]
