@@ -399,6 +399,7 @@ def run_bench(matrix: Matrix, out: str | os.PathLike, workers: int = 0, executor
 
     folder = Path(out)
     store = RunStore(folder / "runs", row_stamp)
+    folder.mkdir(parents=True, exist_ok=True)
     (folder / "config.json").write_text(json.dumps(
         {"matrix": asdict(matrix), "versions": library_versions()}, indent=1))
     jobs, done = plan_jobs(matrix, store)
