@@ -180,12 +180,17 @@ def run_verify(names: list[str], docs: Path = DOCS, manifest: Path = MANIFEST,
                scratch: Path | None = None, log: Callable[[str], None] = print) -> None:
     """Probe each named section with the code that measured it and with today's
     (:func:`docs.freshness.verify.verdict`) and record the verdict: the same tables, today's
-    fingerprint is the section's; others, it differs (and the docs list it)."""
+    fingerprint is the section's; others, it differs (and the docs list it).
+
+    Raises:
+        RuntimeError: after every section, naming those whose probe failed (no verdict).
+    """
     import datetime
     import tempfile
 
     scratch = Path(scratch or tempfile.mkdtemp(prefix="freshness-verify-"))
     commands = {n: shlex.split(c) for n, (_, c) in sections(docs).items()}
+    failed: list[str] = []
     try:
         for i, name in enumerate(names, 1):
             data = load(manifest)
@@ -194,7 +199,12 @@ def run_verify(names: list[str], docs: Path = DOCS, manifest: Path = MANIFEST,
             then = entry.get("commit") or section_commit(name, docs)
             log(f"[{i}/{len(names)}] {name}: its probe with the code of {(then or '?')[:10]} "
                 "and with today's")
-            same, what = verify.verdict(name, {**entry, "commit": then}, commands, scratch)
+            try:
+                same, what = verify.verdict(name, {**entry, "commit": then}, commands, scratch)
+            except (ValueError, RuntimeError) as e:  # the next sections can still be judged
+                failed.append(name)
+                log(f"    not judged: {e}")
+                continue
             now = fingerprint(entry["trace"])
             if same:
                 entry.update(fingerprint=now, verified=str(datetime.date.today()))
@@ -208,6 +218,8 @@ def run_verify(names: list[str], docs: Path = DOCS, manifest: Path = MANIFEST,
     finally:
         verify.remove_checkouts(scratch)
     write_stale_list(docs, manifest)
+    if failed:
+        raise RuntimeError(f"no verdict for {' '.join(failed)}: their probes failed (above)")
 
 
 # -- recording -----------------------------------------------------------------------------

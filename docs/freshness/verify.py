@@ -55,26 +55,24 @@ _TIMED = re.compile(r"second|minute|hour|\bms\b|ms_per|time|speed|per s\b|fps|co
 
 def comparable_text(text: str) -> str:
     """A section's text as two runs of the same code print it alike: without its stamp line,
-    and with every timing (a table column headed as one, a duration in prose) as ``~``."""
+    versions or timings (a table column whose header, the row above ``|---|``, names one, and
+    a duration in prose) as ``~``."""
     text = _VERSION.sub(r"\1 ~", _STAMP.sub("", text))  # a figure is not its version
     lines = text.strip("\n").split("\n")
+    separator = [bool(re.fullmatch(r"\|[-:| ]+\|?", line.strip())) for line in lines]
     timed: set[int] = set()
     out = []
-    for line in lines:
-        if line.startswith("|"):
-            cells = line.strip().strip("|").split("|")
-            if set(line) <= set("|-: "):
-                out.append(line)
-                continue
-            if any(_TIMED.search(c) for c in cells) and not any(
-                    re.search(r"\d", c) for c in cells[1:]):
-                timed = {i for i, c in enumerate(cells) if _TIMED.search(c)}  # a header row
-            else:
-                cells = [" ~ " if i in timed else c for i, c in enumerate(cells)]
-            out.append("|" + "|".join(cells) + "|")
-        else:
+    for i, line in enumerate(lines):
+        if not line.startswith("|"):
             timed = set()
             out.append(_DURATION.sub("~", line))
+            continue
+        cells = line.strip().strip("|").split("|")
+        if i + 1 < len(lines) and separator[i + 1]:  # a header: which of its columns are timed
+            timed = {k for k, c in enumerate(cells) if _TIMED.search(c)}
+        elif not separator[i]:
+            cells = [" ~ " if k in timed else c for k, c in enumerate(cells)]
+        out.append("|" + "|".join(cells) + "|")
     return "\n".join(out)
 
 
@@ -112,10 +110,10 @@ def probe_text(name: str, commands: dict[str, list[str]], tree: Path, scratch: P
                for t in ["--section", *v]]
     # sections of one command line (a suite's tracks) share one probe: run it once a checkout
     key = hashlib.sha256(json.dumps([str(tree), runs, section]).encode()).hexdigest()[:12]
-    kept = scratch / f"text-{key}.txt"
-    if kept.exists():
-        return kept.read_text()
     docs = scratch / f"probe-{key}.md"
+    finished = scratch / f"probe-{key}.done"
+    if finished.exists():
+        return comparable_text(docs.read_text())
     docs.unlink(missing_ok=True)
     env = {**os.environ, "PYTHONPATH": str(tree), "MUJOCO_GL": os.environ.get("MUJOCO_GL",
                                                                             "egl")}
@@ -127,8 +125,8 @@ def probe_text(name: str, commands: dict[str, list[str]], tree: Path, scratch: P
             raise RuntimeError(f"`{shlex.join(run)}` failed in {tree}: {last}")
     if not docs.exists():
         raise RuntimeError(f"the probe of {name} wrote no section")
-    kept.write_text(comparable_text(docs.read_text()))
-    return kept.read_text()
+    finished.touch()
+    return comparable_text(docs.read_text())
 
 
 def checkout(commit: str, scratch: Path) -> Path:
