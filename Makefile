@@ -68,9 +68,9 @@ real-images: $(VENV)/.installed
 		runs/stats/forward-1000-doors/tour.npz --max-features 100 $(DOCS) --section image-stats-100
 
 # Regenerates every table of docs/benchmarks.md but the tracks' val pilots (their commands are in
-# the docs), one command after the other (never two timings at once): 9 to 11 hours on a 2-core
-# machine by its speed that day, the suites 55 to 106 minutes (v1) and 1 h 45 min to 3.5 hours
-# (v2), v2's calibration 43 minutes.
+# the docs), one command after the other (never two timings at once): about 9 hours on a 2-core
+# machine by its speed that day (before 0.17.0 retired 13 tables to docs/retired.md), the suites
+# 55 to 106 minutes (v1) and 1 h 45 min to 3.5 hours (v2), v2's calibration 43 minutes.
 DOCS := --docs docs/benchmarks.md
 # the sections of the tracks' val pilots, which make benchmarks does not run (so does not record)
 VAL_PILOTS := score-pilot-val score-pilot-lit-val leaderboard-val-corridor-carried-relocalizer \
@@ -81,8 +81,6 @@ VAL_PILOTS := score-pilot-val score-pilot-lit-val leaderboard-val-corridor-carri
 PAPER := placeclust.online:OnlinePlaceClustering
 V2_TRACKS := $(foreach t,continued changed-night changed-cloudy changed-moved carried corridor \
 	corridor-carried long,runs/v2/$(t)/results.json)
-PANORAMA_TOURS := --algos online --features sift --conditions day --scenes 0 1 2 3 --rooms 4 8 \
-	--tour-seeds 0 1 --steps-per-room 150 --latency-sizes
 # PANORAMA with SIFT and ORB on 24 tours of a split's first 4 scenes: 4, 8, 12 rooms x 2 tour seeds
 SPLIT_TOURS := --preset panorama --algos online --features sift orb --conditions day \
 	--rooms 4 8 12 --tour-seeds 0 1 --steps-per-room 150 --latency-sizes
@@ -93,19 +91,12 @@ ORB_TOURS := --preset panorama-orb --algos online --features orb --conditions da
 MATCHED := --algos kmeans wpgma kunion --conditions day --latency-sizes
 benchmarks: $(VENV)/.installed
 	$(VENV)/bin/placeclust demo --out runs/demo $(DOCS)
-	$(VENV)/bin/placeclust bench $(PANORAMA_TOURS) --param view=sides --param kernel_capacity=600 \
-		--param scene_change=0.25 --param scale=0.75 --out runs/panorama $(DOCS)
-	$(VENV)/bin/placeclust bench $(PANORAMA_TOURS) --out runs/defaults $(DOCS)
-	$(VENV)/bin/placeclust bench --quick $(DOCS)
 	$(VENV)/bin/placeclust bench --quick $(MATCHED) --param n_clusters=rooms --out runs/matched-rooms $(DOCS)
 	$(VENV)/bin/placeclust bench --quick $(MATCHED) --param n_clusters=online --out runs/matched-online $(DOCS)
 	$(VENV)/bin/placeclust bench $(SPLIT_TOURS) --split test --out runs/panorama-test $(DOCS)
 	$(VENV)/bin/placeclust bench $(SPLIT_TOURS) --split train --out runs/panorama-train $(DOCS)
 	$(VENV)/bin/placeclust bench $(ORB_TOURS) --split test --out runs/panorama-orb-test $(DOCS)
 	$(VENV)/bin/placeclust bench $(ORB_TOURS) --split train --out runs/panorama-orb-train $(DOCS)
-	$(VENV)/bin/placeclust bench --preset panorama --algos online --features sift --conditions day \
-		--rooms 4 8 12 --tour-seeds 0 1 --steps-per-room 250 --latency-sizes --split test \
-		--out runs/panorama-test-250 $(DOCS)
 	$(VENV)/bin/placeclust seed001 --split test --rooms 6 --workers 2 $(DOCS) --section seed001-test
 	$(VENV)/bin/placeclust seed001 --split test --rooms 6 --workers 2 --param min_matches=250 $(DOCS) \
 		--section seed001-test-250
@@ -120,27 +111,13 @@ benchmarks: $(VENV)/.installed
 		'day>night' 'day>cloudy' 'day>moved' --local-light --latency-sizes --out runs/lit-$$p \
 		--workers 2 $(DOCS); done
 	$(MAKE) real-images
-	$(VENV)/bin/placeclust latency $(DOCS)
-	$(VENV)/bin/placeclust latency --param consolidate=0.85 --section latency-consolidate \
-		$(DOCS)
-	$(VENV)/bin/placeclust latency --features orb --param view=sides \
-		--param kernel_capacity=600 --param scene_change=0.12 --param scale=0.75 \
-		--param consolidate=0.85 --param t_new_cluster=0.94 --section latency-panorama-orb $(DOCS)
 	$(VENV)/bin/placeclust speed $(DOCS)
 	$(MAKE) agents-tour
 	$(VENV)/bin/placeclust leaderboard --split val --n-scenes 8 --goals-per-scene 5 \
 		--recognizers oracle panorama panorama-orb random --out runs/pilot-val $(DOCS)
-	$(VENV)/bin/placeclust leaderboard --suite placenav-v1 --size quick --out runs/quick $(DOCS)
-	$(VENV)/bin/placeclust compare runs/quick/results.json runs/quick/results.json \
-		--a panorama --b panorama-orb $(DOCS)
-	$(VENV)/bin/placeclust leaderboard --suite placenav-v1 --size quick \
-		--recognizers oracle panorama panorama-orb --agent ppo --out runs/quick-ppo $(DOCS)
 	$(VENV)/bin/placeclust leaderboard --suite placenav-v1 --out runs/leaderboard $(DOCS)
 	$(VENV)/bin/placeclust compare runs/leaderboard/results.json runs/leaderboard/results.json \
 		--a panorama --b panorama-orb $(DOCS) --section compare-placenav-v1
-	$(VENV)/bin/placeclust leaderboard --suite placenav-v1 --size long --out runs/long $(DOCS)
-	for r in panorama panorama-orb; do $(VENV)/bin/placeclust compare runs/long/results.json \
-		runs/quick/results.json --a $$r --b $$r --force $(DOCS) --section compare-long-quick-$$r; done
 	$(MAKE) agents-suite
 	$(VENV)/bin/placeclust leaderboard --suite placenav-v2 --size quick --out runs/v2-quick
 	$(VENV)/bin/placeclust score $(subst runs/v2/,runs/v2-quick/,$(V2_TRACKS)) $(DOCS) \
