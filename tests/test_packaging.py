@@ -18,12 +18,21 @@ import pytest
 ROOT = Path(__file__).resolve().parent.parent
 
 
+_BUILT = shutil.ignore_patterns(".git", ".venv", "build", "dist", "*.egg-info", "__pycache__",
+                                ".*_cache")
+
+
+def _not_source(folder: str, names: list[str]) -> set[str]:
+    """What a copy of the clone leaves out: built files, and the runs at its top (not the
+    package ``envs/runs``)."""
+    return set(_BUILT(folder, names)) | ({"runs"} & set(names) if Path(folder) == ROOT else set())
+
+
 @pytest.fixture(scope="module")
 def wheel(tmp_path_factory) -> Path:
     # built from a copy, so setuptools' build/ and egg-info never land in the clone
     src = tmp_path_factory.mktemp("src") / "placeclust"
-    shutil.copytree(ROOT, src, ignore=shutil.ignore_patterns(
-        ".git", ".venv", "runs", "build", "dist", "*.egg-info", "__pycache__", ".*_cache"))
+    shutil.copytree(ROOT, src, ignore=_not_source)
     out = tmp_path_factory.mktemp("dist")
     subprocess.run([sys.executable, "-m", "pip", "wheel", "--quiet", "--no-deps",
                     "--no-build-isolation", "--wheel-dir", str(out), str(src)], check=True)
@@ -38,8 +47,10 @@ def test_the_wheel_holds_two_packages_and_the_assets(wheel):
     assert {"placeclust_envs/assets/robot.xml", "placeclust_envs/assets/room_styles.json",
             "placeclust_envs/assets/policies/errands/ppo_errands.zip",
             "placeclust/py.typed", "placeclust_envs/py.typed"} <= set(names)
-    for sub in ("world", "tasks", "agents", "commands"):
+    for sub in ("world", "tasks", "agents", "runs", "commands"):
         assert f"placeclust_envs/{sub}/__init__.py" in names
+    # the docs' tooling is the repository's, not the library's
+    assert not [n for n in names if "freshness" in n or n.startswith("docs/")]
     # the closed loop's errand policy is installed; training's maps and policies stay in the clone
     assert [n for n in names if "policies" in n] == [
         "placeclust_envs/assets/policies/errands/ppo_errands.zip"]

@@ -46,13 +46,20 @@ def test_summary_reports_mean_and_worst_beside_the_paper(row):
 
 @pytest.mark.parametrize("args, named", [
     (["--param", "min_matchez=3"], "min_matchez"),
-    (["--rooms", "0"], "n_rooms"),
     (["--doors", "1.5"], "--doors must be a fraction"),
 ])
 def test_bad_input_is_one_line_of_error(capsys, args, named):
     assert seed001.main(["--scene-seeds", "1000", *args]) == 2
     err = capsys.readouterr().err
     assert err.startswith("error:") and named in err and err.count("\n") == 1
+
+
+def test_a_bad_room_count_is_refused_while_parsing(capsys):
+    with pytest.raises(SystemExit) as stop:
+        seed001.main(["--scene-seeds", "1000", "--rooms", "0"])
+    err = capsys.readouterr().err
+    assert stop.value.code == 2 and err.count("\n") == 1
+    assert "argument --rooms: a building has 1 to 32 rooms, got '0'" in err
 
 
 class _Fixed:
