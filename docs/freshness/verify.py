@@ -113,7 +113,7 @@ def probe_text(name: str, commands: dict[str, list[str]], tree: Path, scratch: P
     docs = scratch / f"probe-{key}.md"
     finished = scratch / f"probe-{key}.done"
     if finished.exists():
-        return comparable_text(docs.read_text())
+        return _in_place(docs.read_text(), scratch)
     docs.unlink(missing_ok=True)
     env = {**os.environ, "PYTHONPATH": str(tree), "MUJOCO_GL": os.environ.get("MUJOCO_GL",
                                                                             "egl")}
@@ -126,7 +126,13 @@ def probe_text(name: str, commands: dict[str, list[str]], tree: Path, scratch: P
     if not docs.exists():
         raise RuntimeError(f"the probe of {name} wrote no section")
     finished.touch()
-    return comparable_text(docs.read_text())
+    return _in_place(docs.read_text(), scratch)
+
+
+def _in_place(text: str, scratch: Path) -> str:
+    """:func:`comparable_text` of a probe's tables, its own scratch folder (in a figure's
+    path: each checkout writes under its own) named alike."""
+    return comparable_text(text.replace(str(scratch), "<scratch>"))
 
 
 def checkout(commit: str, scratch: Path) -> Path:
@@ -139,10 +145,18 @@ def checkout(commit: str, scratch: Path) -> Path:
 
 
 def first_difference(a: str, b: str) -> str:
-    """The first line where ``a`` and ``b`` differ, as ``then → now``."""
+    """Where ``a`` and ``b`` first differ, as ``then → now``: that line, from a little
+    before the first character that differs.
+
+    >>> first_difference("| x | 0.90 | 12 |", "| x | 0.93 | 12 |")
+    "'| x | 0.90 | 12 |' → '| x | 0.93 | 12 |'"
+    """
     for old, new in zip(a.split("\n") + [""], b.split("\n") + [""]):
         if old != new:
-            return f"{old.strip()[:120]!r} → {new.strip()[:120]!r}"
+            at = next((i for i, (x, y) in enumerate(zip(old, new)) if x != y),
+                      min(len(old), len(new)))
+            start = max(0, at - 40)  # the lines from a little before where they part
+            return f"{old[start:at + 60].strip()!r} → {new[start:at + 60].strip()!r}"
     return "none"
 
 

@@ -313,3 +313,15 @@ def test_a_tiny_run_that_fails_says_why_in_one_line(tmp_path):
     with pytest.raises(RuntimeError, match=r"failed: error: .*missing\.json: cannot read"):
         probes.trace_command(["placeclust", "compare", str(tmp_path / "missing.json"),
                               str(tmp_path / "missing.json"), "--a", "x", "--b", "y"], tmp_path)
+
+
+def test_a_probes_own_scratch_folder_is_no_difference(tmp_path):
+    """Fault caught: a figure's path under each checkout's scratch folder (``score
+    --calibration``) made two identical tables differ."""
+    from docs.freshness.verify import _in_place
+
+    line = "Curves: `{}/calibration.png`. Resolution: noise 0.05."
+    then, now = tmp_path / "then" / "c0ffee", tmp_path / "now"
+    assert _in_place(line.format(then), then) == _in_place(line.format(now), now)
+    assert _in_place(line.format(now), now) != _in_place(
+        line.format(now).replace("0.05", "0.10"), now)
