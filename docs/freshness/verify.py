@@ -109,7 +109,7 @@ def probe_text(name: str, commands: dict[str, list[str]], tree: Path, scratch: P
     section = [t for o, v in probes._options(commands[name]) if o == "--section"
                for t in ["--section", *v]]
     # sections of one command line (a suite's tracks) share one probe: run it once a checkout
-    key = hashlib.sha256(json.dumps([str(tree), runs, section]).encode()).hexdigest()[:12]
+    key = _digest([str(tree), runs, section])
     docs = scratch / f"probe-{key}.md"
     finished = scratch / f"probe-{key}.done"
     if finished.exists():
@@ -118,15 +118,26 @@ def probe_text(name: str, commands: dict[str, list[str]], tree: Path, scratch: P
     env = {**os.environ, "PYTHONPATH": str(tree), "MUJOCO_GL": os.environ.get("MUJOCO_GL",
                                                                             "egl")}
     for i, run in enumerate(runs):
-        argv = _absolute(run) + (["--docs", str(docs), *section] if i == len(runs) - 1 else [])
+        own = i == len(runs) - 1
+        argv = _absolute(run) + (["--docs", str(docs), *section] if own else [])
+        # a run that makes an input is the same for every section that reads it (a suite's
+        # tracks feed its score): once a checkout
+        made = scratch / f"run-{_digest([str(tree), argv])}.done"
+        if made.exists() and not own:
+            continue
         done = subprocess.run(_command(argv), cwd=tree, env=env, capture_output=True, text=True)
         if done.returncode != 0:
             last = (done.stderr.strip().splitlines() or ["no message"])[-1]
             raise RuntimeError(f"`{shlex.join(run)}` failed in {tree}: {last}")
+        made.touch()
     if not docs.exists():
         raise RuntimeError(f"the probe of {name} wrote no section")
     finished.touch()
     return _in_place(docs.read_text(), scratch)
+
+
+def _digest(what: object) -> str:
+    return hashlib.sha256(json.dumps(what).encode()).hexdigest()[:12]
 
 
 def _in_place(text: str, scratch: Path) -> str:
