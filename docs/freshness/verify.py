@@ -106,6 +106,10 @@ def probe_text(name: str, commands: dict[str, list[str]], tree: Path, scratch: P
     """
     scratch.mkdir(parents=True, exist_ok=True)
     runs = probes.probe_runs(name, commands, scratch)
+    # the sections of one command line (a suite's tracks) run one probe: its own run's output
+    # folder is named for the command, not the section
+    own = str(scratch / f"own-{_digest(commands[name])}")
+    runs[-1] = [own if t == str(scratch / name) else t for t in runs[-1]]
     section = [t for o, v in probes._options(commands[name]) if o == "--section"
                for t in ["--section", *v]]
     # sections of one command line (a suite's tracks) share one probe: run it once a checkout
