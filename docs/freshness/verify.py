@@ -122,12 +122,12 @@ def probe_text(name: str, commands: dict[str, list[str]], tree: Path, scratch: P
     env = {**os.environ, "PYTHONPATH": str(tree), "MUJOCO_GL": os.environ.get("MUJOCO_GL",
                                                                             "egl")}
     for i, run in enumerate(runs):
-        own = i == len(runs) - 1
-        argv = _absolute(run) + (["--docs", str(docs), *section] if own else [])
+        last = i == len(runs) - 1
+        argv = _absolute(run) + (["--docs", str(docs), *section] if last else [])
         # a run that makes an input is the same for every section that reads it (a suite's
         # tracks feed its score): once a checkout
         made = scratch / f"run-{_digest([str(tree), argv])}.done"
-        if made.exists() and not own:
+        if made.exists() and not last:
             continue
         done = subprocess.run(_command(argv), cwd=tree, env=env, capture_output=True, text=True)
         if done.returncode != 0:
