@@ -131,8 +131,8 @@ def probe_text(name: str, commands: dict[str, list[str]], tree: Path, scratch: P
             continue
         done = subprocess.run(_command(argv), cwd=tree, env=env, capture_output=True, text=True)
         if done.returncode != 0:
-            last = (done.stderr.strip().splitlines() or ["no message"])[-1]
-            raise RuntimeError(f"`{shlex.join(run)}` failed in {tree}: {last}")
+            why = (done.stderr.strip().splitlines() or ["no message"])[-1]
+            raise RuntimeError(f"`{shlex.join(run)}` failed in {tree}: {why}")
         made.touch()
     if not docs.exists():
         raise RuntimeError(f"the probe of {name} wrote no section")
