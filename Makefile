@@ -48,8 +48,8 @@ docs-check: $(VENV)/.installed
 	$(PY) -m docs.freshness check
 
 # Runs the probe of every section whose code moved, with the code that measured it and with
-# today's, and lists those that differ (docs/design.md, "Which tables must be current"; all 33
-# cited sections took about an hour on 2 cores)
+# today's, and lists those that differ (docs/design.md, "Which tables must be current"; the
+# cited sections took about two hours on 2 cores)
 docs-verify: $(VENV)/.installed
 	$(PY) -m docs.freshness verify
 
