@@ -23,6 +23,7 @@ from placeclust.runner import ALGORITHMS, check_params, evaluate, preset_params,
 
 from ..world.conditions import CONDITIONS, LIGHTING
 from ..world.layout import room_count
+from ..world.sensor import Sensor
 from ..world.splits import SPLITS, check_split, scenes, split_of
 from .bench_report import format_table
 
@@ -75,14 +76,18 @@ def cmd_tour(args: argparse.Namespace) -> None:
     out = Path(args.out)
     if args.camera == "forward":  # --width and --height size the forward image instead
         size = {"image_width": args.width or 320, "image_height": args.height or 240,
-                "camera": "forward"}
+                "camera": "forward", "image_fov": args.fov}
     else:
+        if args.fov != 70.0:
+            raise ValueError("--fov sets the forward camera's field of view; the panorama's "
+                             "is 360°: add --camera forward")
         size = {"width": args.width or 512, "height": args.height or 128}
+    sensor = Sensor.parse(args.sensor)
 
     def record(**condition: object) -> tuple[Tour, FloorPlan]:
         """The tour's route in its building, under ``condition`` (default: the lighting)."""
         return record_tour(args.scene_seed, args.rooms, args.steps, args.seed,
-                           progress=not args.quiet, doors=args.doors,
+                           progress=not args.quiet, doors=args.doors, sensor=sensor,
                            **{"lighting": args.lighting, **size, **condition})
 
     tour, plan = record()
@@ -325,6 +330,11 @@ def build_parser() -> argparse.ArgumentParser:
                       "001's monocular camera)")
     tour.add_argument("--width", type=int, help="image width (panorama 512, forward 320)")
     tour.add_argument("--height", type=int, help="image height (panorama 128, forward 240)")
+    tour.add_argument("--fov", type=float, default=70.0, help="the forward camera's horizontal "
+                      "field of view, degrees")
+    tour.add_argument("--sensor", nargs="+", metavar="NAME=VALUE", help="a real camera's "
+                      "effects (envs.world.sensor: grey, exposure, shot_noise, read_noise, "
+                      "motion_blur, vignetting, jpeg)")
     tour.add_argument("--lighting", default="day", choices=LIGHTING)
     tour.add_argument("--doors", type=float, metavar="F", help="a building with doors: F of the "
                       "doorways with an automatic door (envs.world.doors; default: none)")
@@ -398,6 +408,8 @@ COMMANDS = {
     "seed001": (".seed001", "seed 001's experiment on its paper's forward camera"),
     "longrun": (".longrun", "the online recognizer in the loop for many steps"),
     "speed": (".speed", "the simulator's steps per second against a bare render"),
+    "like": (".like", "the simulator through a real data set's camera, asked its question: "
+             "does it rank recognizers as the data does"),
     "stats": ("placeclust.imagestats", "how alike a sequence's places look to local features: "
               "keypoints, matches to the next frame, across places and within (real or "
               "simulated)"),

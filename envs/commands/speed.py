@@ -6,7 +6,8 @@ command times, in one run and one process, ``env.step`` and its *floor*: a bare
 panorama, the least any panorama of that size can cost here. Their ratio is the figure to
 compare. It also times the physics alone (``panorama=False``) and what two spawned
 ``AsyncVectorEnv`` workers give over one process. With ``--docs docs/benchmarks.md`` it writes
-its table there.
+its table there. ``--sensor`` times each camera effect of :mod:`envs.world.sensor` against
+``env.step`` with a forward camera instead.
 """
 
 from __future__ import annotations
@@ -18,7 +19,7 @@ import resource
 import shlex
 import sys
 import time
-from collections.abc import Callable
+from collections.abc import Callable, Mapping
 from typing import Any
 
 import gymnasium as gym
@@ -29,6 +30,7 @@ from placeclust.argparsing import ArgumentParser
 from placeclust.docs_section import write_section
 
 from ..tasks.vector import make_vector_env
+from ..world.sensor import Sensor
 
 SIZES = ((512, 128), (256, 64))
 ENV_ID = f"{__package__}:PlaceNav-v0"  # spawned workers import this package by its own name
@@ -59,7 +61,7 @@ def _cpu_seconds() -> float:
     return usage.ru_utime + usage.ru_stime
 
 
-def _seconds(run: Callable[[], None], n: int) -> tuple[float, float]:
+def _seconds(run: Callable[[], object], n: int) -> tuple[float, float]:
     """Mean wall and CPU seconds of one of ``n`` calls of ``run``."""
     wall, cpu = time.perf_counter(), _cpu_seconds()
     for _ in range(n):
@@ -67,7 +69,7 @@ def _seconds(run: Callable[[], None], n: int) -> tuple[float, float]:
     return (time.perf_counter() - wall) / n, (_cpu_seconds() - cpu) / n
 
 
-def _interleaved(runs: dict[str, Callable[[], None]], n: int, rounds: int
+def _interleaved(runs: Mapping[str, Callable[[], object]], n: int, rounds: int
                  ) -> dict[str, np.ndarray]:
     """Each run's (wall, CPU) seconds per call, one row per round: the runs are taken in turn
     each round, so that the machine's drift falls on all of them alike and a ratio of two runs
@@ -165,6 +167,55 @@ ROWS: tuple[tuple[int, int, int, dict[str, Any]], ...] = (
     (512, 128, 4, {"local_light": True}), (512, 128, 4, {"local_light": True, "lighting": "night"}))
 
 
+#: each camera effect of :class:`envs.world.sensor.Sensor` alone, at a setting a cheap real
+#: camera shows, then all of them; the motion blur at a 9-pixel smear (a turn at 0.5 rad/s
+#: with a 20 ms exposure and a 900-pixel focal length is 9 pixels)
+EFFECTS: dict[str, tuple[Sensor, float]] = {
+    "grey": (Sensor(grey=True), 0.0), "exposure +0.5 EV": (Sensor(exposure=0.5), 0.0),
+    "shot + read noise": (Sensor(shot_noise=1.0, read_noise=2.0), 0.0),
+    "motion blur, 9 px": (Sensor(motion_blur=0.02), 9.0),
+    "vignetting 0.3": (Sensor(vignetting=0.3), 0.0), "JPEG 75": (Sensor(jpeg=75), 0.0),
+    "all of them": (Sensor(grey=True, exposure=0.5, shot_noise=1.0, read_noise=2.0,
+                           motion_blur=0.02, vignetting=0.3, jpeg=75), 9.0)}
+#: forward-camera sizes the effects are timed at: the corridor's, the env's default, RTAB-Map's
+SENSOR_SIZES = ((160, 120), (320, 240), (512, 384))
+
+
+def sensor_timings(width: int, height: int, steps: int, rounds: int = 5
+                   ) -> dict[str, np.ndarray]:
+    """Seconds per call (rows: rounds; columns: wall, CPU) of ``env.step`` with a ``width`` x
+    ``height`` forward camera and of each of :data:`EFFECTS` on one of its frames."""
+    env = gym.make("PlaceNav-v0", camera="forward", image_width=width, image_height=height,
+                   max_episode_steps=None)
+    frame = env.reset(seed=0)[0]["image"]
+    rng = np.random.default_rng(0)
+    runs: dict[str, Callable[[], object]] = {"step": _stepper(env)}
+    for name, (sensor, blur) in EFFECTS.items():
+        runs[name] = functools.partial(sensor.apply, frame, rng, blur)
+    try:
+        return _interleaved(runs, steps, rounds)
+    finally:
+        env.close()
+
+
+def sensor_table(steps: int, rounds: int) -> str:
+    """The cost of each camera effect as a share of ``env.step`` at each of
+    :data:`SENSOR_SIZES`, medians over rounds taken in turn."""
+    lines = [f"Each camera effect (`envs.world.sensor.Sensor`) on one rendered forward frame, "
+             f"as a share of `env.step` with that camera (PlaceNav-v0, scene 0, random "
+             f"actions, one process); medians over {rounds} rounds of {steps} calls taken in "
+             "turn, the ratio round by round. `env.step` ms is context only.", "",
+             "| effect | " + " | ".join(f"{w}x{h}" for w, h in SENSOR_SIZES) + " |",
+             "|---|" + "---|" * len(SENSOR_SIZES)]
+    timings = [sensor_timings(w, h, steps, rounds) for w, h in SENSOR_SIZES]
+    lines.append("| `env.step` ms | " + " | ".join(
+        f"{1e3 * np.median(t['step'][:, 0]):.2f}" for t in timings) + " |")
+    for name in EFFECTS:
+        lines.append(f"| {name} | " + " | ".join(
+            f"{ratio(t, name, 'step'):.3f}" for t in timings) + " |")
+    return "\n".join(lines)
+
+
 def main(argv: list[str] | None = None, prog: str = "placeclust speed"
          ) -> None:
     parser = ArgumentParser(prog=prog, description=__doc__,
@@ -172,12 +223,20 @@ def main(argv: list[str] | None = None, prog: str = "placeclust speed"
     parser.add_argument("--steps", type=int, default=100, help="calls per timing and round")
     parser.add_argument("--rounds", type=int, default=15, help="rounds of the three timings")
     parser.add_argument("--workers", type=int, default=2, help="AsyncVectorEnv workers")
+    parser.add_argument("--sensor", action="store_true", help="instead: each camera "
+                        "effect's cost against env.step (section 'sensor-costs')")
     parser.add_argument("--docs", metavar="FILE", help="also write the table into FILE's "
                         "'simulator' section (docs/benchmarks.md)")
     argv = sys.argv[1:] if argv is None else list(argv)
     args = parser.parse_args(argv)
     if args.steps < 1 or args.workers < 1 or args.rounds < 1:
         parser.error("--steps, --rounds and --workers must be positive")
+    if args.sensor:
+        table = sensor_table(args.steps, args.rounds)
+        print(table)
+        if args.docs:
+            write_section(args.docs, "sensor-costs", table, shlex.join([*prog.split(), *argv]))
+        return
     lines = [f"PlaceNav-v0, scene 0, random actions, one process; medians over {args.rounds} "
              f"rounds of {args.steps} calls, the three timings taken in turn and the ratio taken "
              "round by round. *Floor*: a bare `mujoco.Renderer` render and read-back of a "

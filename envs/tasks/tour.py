@@ -22,6 +22,8 @@ from numpy.typing import ArrayLike
 from placeclust.progress import progress as progress_bar
 
 from ..world.layout import FloorPlan
+from ..world.sensor import Sensor
+from .camera_sensor import CameraSensor
 from .records import TourRecord
 
 
@@ -230,14 +232,17 @@ def drive_tour(env: gym.Env, steps: int, seed: int = 0, progress: bool = False) 
 
 def record_tour(scene_seed: int, n_rooms: int, steps: int, seed: int = 0, width: int = 512,
                 height: int = 128, lighting: str = "day", progress: bool = True,
-                **env_kwargs: Any) -> tuple[Tour, FloorPlan]:
+                sensor: Sensor | None = None, **env_kwargs: Any) -> tuple[Tour, FloorPlan]:
     """Drive a scripted tour of ``steps`` frames; returns it with the world's floor plan.
 
-    ``env_kwargs`` go to ``PlaceNav-v0`` (appearance changes, see :mod:`envs.world.changes`).
+    ``env_kwargs`` go to ``PlaceNav-v0`` (appearance changes, see :mod:`envs.world.changes`);
+    ``sensor`` puts a real camera's effects on its frames (:class:`CameraSensor`).
     """
-    env = gym.make("PlaceNav-v0", scene_seed=scene_seed, n_rooms=n_rooms, panorama_width=width,
-                   panorama_height=height, lighting=lighting, max_episode_steps=None,
-                   **env_kwargs)
+    env: gym.Env = gym.make("PlaceNav-v0", scene_seed=scene_seed, n_rooms=n_rooms,
+                            panorama_width=width, panorama_height=height, lighting=lighting,
+                            max_episode_steps=None, **env_kwargs)
+    if sensor is not None and sensor.active:
+        env = CameraSensor(env, sensor)
     try:
         tour = drive_tour(env, steps, seed=seed, progress=progress)
         return tour, building(env).plan

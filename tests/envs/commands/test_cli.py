@@ -291,3 +291,24 @@ def test_a_tour_exports_as_a_folder_and_a_vpr_bench_dataset(tmp_path):
 
 def test_stats_is_a_command_of_its_own():
     assert COMMANDS["stats"][0] == "placeclust.imagestats"
+
+
+def test_tour_renders_a_forward_camera_of_any_field_of_view_through_a_sensor(tmp_path, capsys):
+    def frames(*extra):
+        out = tmp_path / "_".join(extra).replace("=", "")
+        main(["tour", "--rooms", "2", "--steps", "3", "--camera", "forward", "--width", "48",
+              "--height", "32", "--quiet", "--out", str(out), *extra])
+        with np.load(out / "tour.npz") as z:
+            return z["frames"]
+
+    plain, wide = frames(), frames("--fov", "120")
+    assert plain.shape == wide.shape == (3, 32, 48, 3) and not np.array_equal(plain, wide)
+    grey = frames("--sensor", "grey=1", "jpeg=80")
+    assert (grey[..., 0] == grey[..., 2]).all() and not (plain[..., 0] == plain[..., 2]).all()
+    capsys.readouterr()
+    with pytest.raises(SystemExit) as code:
+        main(["tour", "--rooms", "2", "--steps", "3", "--fov", "90", "--out",
+              str(tmp_path / "pano")])
+    err = capsys.readouterr().err.strip()
+    assert code.value.code == 2 and "--camera forward" in err and len(err.splitlines()) == 1
+    assert not (tmp_path / "pano").exists()

@@ -27,3 +27,13 @@ def test_the_simulator_benchmark_writes_its_ratios(tmp_path, capsys):
 def test_bad_counts_are_refused():
     with pytest.raises(SystemExit):
         speed.main(["--steps", "0"])
+
+
+def test_sensor_costs_name_every_effect_at_every_size(monkeypatch):
+    from envs.commands import speed
+
+    monkeypatch.setattr(speed, "SENSOR_SIZES", ((32, 24),))
+    table = speed.sensor_table(steps=2, rounds=1)
+    for name in speed.EFFECTS:
+        row = next(line for line in table.splitlines() if line.startswith(f"| {name} |"))
+        assert float(row.split("|")[2]) > 0  # a share of env.step, measured

@@ -1,0 +1,190 @@
+"""The simulator asked a real data set's question through the data set's camera: the
+measuring half of ``placeclust like`` (:mod:`envs.commands.like` writes the report).
+
+For a VPR-Bench data set (``ref/``, ``query/``, ground truth) each simulated building is made
+into one like it (:func:`simulated_vpr_bench`): the forward camera at the data set's image
+size, colour and field of view (:func:`placeclust.camera.camera_of`), with the sensor effects
+asked for (:class:`envs.world.sensor.Sensor`); a reference drive and a query drive, the two
+halves of one tour (a tour visits every room, then revisits them along other paths: the second
+half traverses the first half's places again, as ``rtabmap-loop``'s second lap does), under one
+light; and VPR-Bench's ground truth from positions, each query's references being those within
+``radius`` metres in its room that look the same way (heading within half the field of view:
+a forward camera turned round sees another place). Every recognizer × feature configuration
+then maps ``ref/`` and localizes ``query/`` on both sides through the same code
+(:func:`placeclust.realdata.vpr_bench`).
+
+Every building's figures are kept in ``OUT/sim/scene_S.json`` and the data set's in
+``OUT/real.json``, stamped with the code (this module's and the simulator's) and the
+settings: the same command resumes, and a change of either runs again.
+"""
+
+from __future__ import annotations
+
+import functools
+import json
+import math
+import tempfile
+from dataclasses import asdict, dataclass
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from placeclust.atomic import write_atomic
+from placeclust.camera import CameraSpec
+from placeclust.imagestats import image_stats
+from placeclust.realdata import dataset_kind, fingerprint, vpr_bench
+from placeclust.strict_json import dumps
+from placeclust.vprbench import VPRBench, nearby_truth
+
+from ..tasks.tour import Tour, record_tour
+from ..world.sensor import Sensor
+from .pool import run_all
+from .suite import sources_fingerprint
+
+#: the recognizers that can take queries on a fixed map (``localize_one``)
+ALGOS = ("online", "nested")
+#: every feature type both recognizers run with
+FEATURES = ("sift", "kaze", "surf", "orb", "akaze")
+
+
+@dataclass(frozen=True)
+class Matched:
+    """One matched comparison's settings (every building runs the same)."""
+
+    camera: CameraSpec
+    sensor: Sensor
+    configs: tuple[tuple[str, str], ...]
+    rooms: int = 4
+    steps_per_room: int = 100
+    stride: int = 1
+    radius: float = 1.0
+    doors: float | None = None
+    params: tuple[tuple[str, Any], ...] = ()
+
+    def stamp(self) -> str:
+        """What a kept figure must match to be reused: these settings and the code."""
+        settings = json.dumps(asdict(self), sort_keys=True, default=str)
+        return f"{sources_fingerprint(__file__)}:{settings}"
+
+
+def config_name(algo: str, features: str) -> str:
+    return f"{algo} ({features})"
+
+
+def record(scene: int, m: Matched) -> tuple[Tour, Tour]:
+    """The reference and query drives of ``scene``: one forward-camera tour like the data
+    set's camera, twice ``rooms * steps_per_room`` frames long (every ``stride``-th kept), cut
+    in two. A tour visits every room first and then revisits them along other paths, so its
+    second half is a second traversal of the places of its first."""
+    sensor = Sensor(**{**asdict(m.sensor), "grey": m.sensor.grey or not m.camera.colour})
+    half = m.rooms * m.steps_per_room
+    tour, _ = record_tour(scene, m.rooms, 2 * half * m.stride, seed=0, progress=False,
+                          sensor=sensor, camera="forward", image_width=m.camera.width,
+                          image_height=m.camera.height, image_fov=m.camera.fov, doors=m.doors)
+
+    def part(start: int) -> Tour:
+        keep = slice(start * m.stride, (start + half) * m.stride, m.stride)
+        return Tour(tour.frames[keep], tour.room[keep], tour.pose[keep], tour.room_names)
+
+    return part(0), part(half)
+
+
+def matched_truth(ref: Tour, query: Tour, radius: float, fov: float) -> list[list[int]]:
+    """Each query's references: within ``radius`` m in its room, heading within ``fov / 2``."""
+    near = nearby_truth(ref.pose, query.pose, radius, ref.room, query.room)
+    half = math.radians(fov) / 2
+    return [[r for r in refs
+             if abs(math.remainder(ref.pose[r, 2] - query.pose[q, 2], 2 * math.pi)) <= half]
+            for q, refs in enumerate(near)]
+
+
+def simulated_vpr_bench(scene: int, m: Matched, folder: Path) -> tuple[int, dict[str, float]]:
+    """Write building ``scene`` as a VPR-Bench data set like the real one to ``folder``;
+    returns the number of queries that have a reference and the reference drive's image
+    statistics, with its rooms as places."""
+    from placeclust.vprbench import write_vpr_bench
+
+    ref, query = record(scene, m)
+    truth = matched_truth(ref, query, m.radius, m.camera.fov)
+    write_vpr_bench(folder, ref.frames, query.frames, truth)
+    rooms = ref.room if len(np.unique(ref.room[ref.room >= 0])) >= 2 else None
+    return sum(1 for t in truth if t), image_stats(ref.frames, rooms, features="sift")
+
+
+def query_hits(run_: Any, data: VPRBench) -> list[float]:
+    """Per query with ground truth: 1 when its place holds one of its references (top-1)."""
+    ref_places, query_places = run_.result.assignments, run_.query.assignments
+    return [float(int(query_places[q]) in set(ref_places[truth].tolist()))
+            for q, truth in enumerate(data.ground_truth) if len(truth)]
+
+
+def score_configs(data: VPRBench, m: Matched) -> dict[str, dict[str, Any]]:
+    """Every configuration on one VPR-Bench data set: its per-query hits and top-1."""
+    out = {}
+    for algo, features in m.configs:
+        run_ = vpr_bench(algo, data, features, **dict(m.params))
+        hits = query_hits(run_, data)
+        out[config_name(algo, features)] = {
+            "hits": hits, "top1": float(np.mean(hits)) if hits else math.nan,
+            "chance": run_.metrics.get("query_chance", math.nan),
+            "n_places": run_.metrics.get("n_places", 0)}
+    return out
+
+
+def building_job(scene: int, m: Matched, out: str) -> dict[str, Any]:
+    """One simulated building: record, write, score (a picklable pool job)."""
+    path = Path(out) / "sim" / f"scene_{scene}.json"
+    if path.exists():
+        kept = json.loads(path.read_text())
+        if kept.get("stamp") == m.stamp():
+            return kept
+    with tempfile.TemporaryDirectory() as tmp:
+        n_queries, stats = simulated_vpr_bench(scene, m, Path(tmp))
+        result = {"stamp": m.stamp(), "scene": scene, "queries": n_queries,
+                  "configs": score_configs(VPRBench(tmp), m), "image_stats": stats}
+    path.parent.mkdir(parents=True, exist_ok=True)
+    _write(path, result)
+    return result
+
+
+def real_side(dataset: str, m: Matched, out: Path) -> dict[str, Any]:
+    """The data set's own figures, kept in ``OUT/real.json``."""
+    path = out / "real.json"
+    stamp = f"{m.stamp()}:{fingerprint(dataset)}"
+    if path.exists():
+        kept = json.loads(path.read_text())
+        if kept.get("stamp") == stamp:
+            return kept
+    data = VPRBench(dataset)
+    result = {"stamp": stamp, "configs": score_configs(data, m),
+              "image_stats": image_stats(data.ref, features="sift")}
+    out.mkdir(parents=True, exist_ok=True)
+    _write(path, result)
+    return result
+
+
+def _write(path: Path, result: dict[str, Any]) -> None:
+    text = dumps(result).encode()
+    write_atomic(path, lambda f: f.write(text))
+
+
+def run_matched(dataset: str, scenes: list[int], m: Matched, out: Path, workers: int = 1,
+                executor: str = "process", address: str | None = None
+                ) -> tuple[dict[str, Any], list[dict[str, Any]]]:
+    """The real side and every simulated building (resuming kept ones).
+
+    Raises:
+        ValueError: the data set is not a VPR-Bench folder (a labelled image folder's
+            question, clustering, is not matched yet), or no scene is given.
+    """
+    if dataset_kind(dataset) != "vpr-bench":
+        raise ValueError(f"{dataset} is a labelled image folder; placeclust like asks a "
+                         "VPR-Bench data set's question (map ref/, localize query/) and cannot "
+                         "match a clustering one yet")
+    if not scenes:
+        raise ValueError("no simulated buildings: give --scenes or --split")
+    real = real_side(dataset, m, out)
+    job = functools.partial(building_job, m=m, out=str(out))
+    sims = [result for _, result in run_all(job, list(scenes), workers, executor, address)]
+    return real, sorted(sims, key=lambda r: r["scene"])

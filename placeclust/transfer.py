@@ -1,0 +1,170 @@
+"""Does a simulator rank methods as real images do? Rank correlation and pairwise agreement,
+each with an interval from both sides' own sampling.
+
+A simulated benchmark is worth running if what wins there wins on a robot. Given the same
+methods' scores on both sides, :func:`rank_transfer` reports Spearman's rank correlation of
+their means and, for every pair of methods, whether the simulator orders them as the data
+does. Its interval resamples what each side drew:
+
+- **simulated side**: buildings (a method's score is its mean over the same buildings);
+- **real side**: blocks of consecutive frames or queries (a moving-block bootstrap, blocks of
+  :data:`BLOCK` units), since neighbouring frames of one drive succeed or fail together.
+
+Both sides are resampled independently in each of ``n_resamples`` draws; the correlation's
+interval is the percentile interval of its draws, and each pair's ``p_agree`` is the share of
+draws in which the two sides order it alike.
+
+Examples:
+    >>> from placeclust.transfer import rank_transfer
+    >>> sim = {"a": [0.9, 0.8, 0.85], "b": [0.6, 0.5, 0.55], "c": [0.3, 0.2, 0.25]}
+    >>> real = {"a": [1, 1, 1, 0] * 5, "b": [1, 0, 1, 0] * 5, "c": [0, 0, 0, 1] * 5}
+    >>> t = rank_transfer(sim, real, block=2)
+    >>> round(t.rho.mean, 2), t.concordant, t.discordant, t.ties, t.agreement.mean
+    (1.0, 3, 0, 0, 1.0)
+"""
+
+from __future__ import annotations
+
+import itertools
+import math
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass
+
+import numpy as np
+from scipy import stats
+
+from placeclust.stats import CONFIDENCE, Estimate
+
+#: consecutive real frames or queries resampled together: about a place's worth of a drive
+BLOCK = 10
+
+
+@dataclass(frozen=True)
+class PairOrder:
+    """How the two sides order methods ``a`` and ``b``: each side's ``a - b`` and how often the
+    resamples order them alike (:func:`rank_transfer`'s ``agreement``, pair by pair)."""
+
+    a: str
+    b: str
+    sim: float
+    real: float
+    p_agree: float
+
+    @property
+    def verdict(self) -> str:
+        """``"agree"``, ``"disagree"``, or ``"tie"`` where either side cannot order them."""
+        if self.sim == 0 or self.real == 0:
+            return "tie"
+        return "agree" if (self.sim > 0) == (self.real > 0) else "disagree"
+
+
+@dataclass(frozen=True)
+class Transfer:
+    """:func:`rank_transfer`'s answer."""
+
+    methods: tuple[str, ...]
+    sim_means: tuple[float, ...]
+    real_means: tuple[float, ...]
+    rho: Estimate
+    pairs: tuple[PairOrder, ...]
+    agreement: Estimate
+
+    @property
+    def concordant(self) -> int:
+        return sum(p.verdict == "agree" for p in self.pairs)
+
+    @property
+    def discordant(self) -> int:
+        return sum(p.verdict == "disagree" for p in self.pairs)
+
+    @property
+    def ties(self) -> int:
+        return sum(p.verdict == "tie" for p in self.pairs)
+
+
+def block_resample(n: int, block: int, rng: np.random.Generator) -> np.ndarray:
+    """Indices of one moving-block bootstrap draw of ``n`` units: blocks of ``block``
+    consecutive units from uniform starts, concatenated and cut to ``n``."""
+    block = max(1, min(block, n))
+    starts = rng.integers(0, n - block + 1, math.ceil(n / block))
+    return (starts[:, None] + np.arange(block)[None, :]).ravel()[:n]
+
+
+def _spearman(x: np.ndarray, y: np.ndarray) -> np.ndarray:
+    """Spearman's rho of each row of ``x`` with the same row of ``y`` (the Pearson
+    correlation of their ranks, ties at their mean rank); NaN where a row is constant."""
+    rx, ry = (stats.rankdata(v, axis=-1) for v in (x, y))
+    rx, ry = (r - r.mean(axis=-1, keepdims=True) for r in (rx, ry))
+    with np.errstate(invalid="ignore", divide="ignore"):
+        return (rx * ry).sum(axis=-1) / np.sqrt((rx**2).sum(axis=-1) * (ry**2).sum(axis=-1))
+
+
+def _agreement(sim: np.ndarray, real: np.ndarray, pairs: list[tuple[int, int]]) -> np.ndarray:
+    """Per pair: 1 where both sides order it alike (tied on both counts alike), 0 where they
+    order it oppositely, 0.5 where one side ties and the other does not."""
+    i, j = np.array(pairs).T
+    a, b = np.sign(sim[..., i] - sim[..., j]), np.sign(real[..., i] - real[..., j])
+    return np.where(a == b, 1.0, np.where((a == 0) | (b == 0), 0.5, 0.0))
+
+
+def rank_transfer(sim: Mapping[str, Sequence[float]], real: Mapping[str, Sequence[float]],
+                  block: int = BLOCK, confidence: float = CONFIDENCE,
+                  n_resamples: int = 2000, seed: int = 0) -> Transfer:
+    """How far the simulator's ranking of methods holds on real data.
+
+    Args:
+        sim: per method, its score on each simulated building (every method on the same
+            buildings, in the same order).
+        real: per method, its score on each real unit (a query's hit, a frame's), every method
+            on the same units in the same order; a method's real score is their mean.
+        block: real units resampled together (:func:`block_resample`).
+        confidence, n_resamples, seed: the bootstrap.
+
+    Returns:
+        A :class:`Transfer`: the means, Spearman's rho with its interval (NaN with fewer than
+        3 methods), every pair's order on both sides, and ``agreement``, the share of pairs
+        the two sides order alike (a pair one side ties and the other orders counts half),
+        with its interval.
+
+    Raises:
+        ValueError: the two sides name other methods, or a side's methods differ in length.
+    """
+    if set(sim) != set(real):
+        raise ValueError(f"the two sides must score the same methods: simulated "
+                         f"{sorted(sim)}, real {sorted(real)}")
+    methods = tuple(sim)
+    s = np.array([np.asarray(sim[m], float) for m in methods]).T  # (buildings, methods)
+    r = np.array([np.asarray(real[m], float) for m in methods]).T  # (units, methods)
+    if s.ndim != 2 or r.ndim != 2 or not len(s) or not len(r):
+        raise ValueError("every method needs scores on the same buildings and the same units")
+    sim_means, real_means = s.mean(axis=0), r.mean(axis=0)
+    pairs = list(itertools.combinations(range(len(methods)), 2))
+    rng = np.random.default_rng(seed)
+    sim_draws = s[rng.integers(0, len(s), (n_resamples, len(s)))].mean(axis=1)
+    real_draws = np.array([r[block_resample(len(r), block, rng)].mean(axis=0)
+                           for _ in range(n_resamples)])
+    tail = (1 - confidence) / 2 * 100
+
+    def estimate(point: float, draws: np.ndarray, n: int) -> Estimate:
+        draws = draws[np.isfinite(draws)]
+        if not draws.size or not math.isfinite(point):
+            return Estimate(point, math.nan, math.nan, n, confidence)
+        low, high = np.percentile(draws, [tail, 100 - tail])
+        return Estimate(point, float(min(low, point)), float(max(high, point)), n, confidence)
+
+    rho = math.nan if len(methods) < 3 else float(_spearman(sim_means, real_means))
+    rho_draws = _spearman(sim_draws, real_draws) if len(methods) >= 3 else np.array([])
+    orders: list[PairOrder] = []
+    agree_share = math.nan
+    agree_draws = np.array([])
+    if pairs:
+        agree = _agreement(sim_draws, real_draws, pairs)  # (resamples, pairs)
+        orders = [PairOrder(methods[i], methods[j], float(sim_means[i] - sim_means[j]),
+                            float(real_means[i] - real_means[j]), float(agree[:, k].mean()))
+                  for k, (i, j) in enumerate(pairs)]
+        agree_share = float(_agreement(sim_means, real_means, pairs).mean())
+        agree_draws = agree.mean(axis=1)
+    return Transfer(methods, tuple(float(x) for x in sim_means),
+                    tuple(float(x) for x in real_means),
+                    estimate(rho, rho_draws, len(methods)), tuple(orders),
+                    estimate(agree_share, agree_draws, len(pairs)))

@@ -1,0 +1,73 @@
+"""``placeclust like``: the simulator through a data set's camera, its question asked
+on both sides, the rankings compared; resumable; bad input one line, nothing written."""
+
+import json
+
+import numpy as np
+import pytest
+
+from envs.commands.cli import main
+from placeclust.datasets import write_image_folder
+from placeclust.vprbench import write_vpr_bench
+
+
+@pytest.fixture
+def real(tmp_path, two_places):
+    """A small VPR-Bench data set of two places, 48x32 grey: every 2nd view maps, the rest
+    query."""
+    frames, truth = two_places
+    grey = np.repeat(frames[..., :1], 3, axis=3)[:, :32, :48]
+    ref, query = grey[::2], grey[1::2]
+    gt = [np.flatnonzero(truth[::2] == t).tolist() for t in truth[1::2]]
+    write_vpr_bench(tmp_path / "real", ref, query, gt)
+    return tmp_path / "real"
+
+
+def _like(real, out, *extra):
+    """``placeclust like``; raises SystemExit with its status, as the command line exits."""
+    main(["like", str(real), "--scenes", "1000", "--rooms", "2",
+          "--steps-per-room", "12", "--features", "orb", "--out", str(out), "--workers", "1",
+          *extra])
+
+
+def test_both_sides_run_the_same_configurations_and_resume(real, tmp_path, capsys):
+    out = tmp_path / "out"
+    with pytest.raises(SystemExit) as done:
+        _like(real, out)
+    assert done.value.code == 0
+    text = (out / "results.md").read_text()
+    assert "48×32 grey, 60° wide (default)" in text
+    for name in ("online (orb)", "nested (orb)"):
+        assert f"| {name} |" in text
+    assert "Spearman's rank correlation over 2 configurations" in text
+    kept = json.loads((out / "sim" / "scene_1000.json").read_text())
+    assert kept["queries"] > 0 and set(kept["configs"]) == {"online (orb)", "nested (orb)"}
+    real_kept = json.loads((out / "real.json").read_text())
+    assert len(real_kept["configs"]["online (orb)"]["hits"]) == 20  # every query has truth
+    stamp = (out / "sim" / "scene_1000.json").stat().st_mtime_ns
+    capsys.readouterr()
+    with pytest.raises(SystemExit):  # the same command: kept buildings and data are reused
+        _like(real, out)
+    assert (out / "sim" / "scene_1000.json").stat().st_mtime_ns == stamp
+    assert "| online (orb) |" in capsys.readouterr().out
+
+
+@pytest.mark.parametrize("setup, extra, message", [
+    ("labelled", (), "labelled image folder"),
+    ("vpr", ("--algos", "kmeans"), "invalid choice: 'kmeans'"),
+    ("vpr", ("--radius", "-1"), "--radius must be a positive"),
+    ("vpr", ("--stride", "0"), "must be at least 1"),
+    ("vpr", ("--split", "val", "--scenes", "5"), "are not in the 'val' split"),
+    ("vpr", ("--sensor", "gain=2"), "NAME one of grey"),
+])
+def test_bad_input_is_one_line_exit_2_and_writes_nothing(real, tmp_path, capsys, setup, extra,
+                                                         message):
+    folder = real
+    if setup == "labelled":
+        folder = tmp_path / "labelled"
+        write_image_folder(folder, np.zeros((3, 20, 20, 3), np.uint8), ["a", "a", "b"])
+    with pytest.raises(SystemExit) as code:
+        _like(folder, tmp_path / "out", *extra)
+    err = capsys.readouterr().err.strip()
+    assert code.value.code == 2 and message in err and len(err.splitlines()) == 1
+    assert not (tmp_path / "out").exists()

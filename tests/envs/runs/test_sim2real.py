@@ -1,0 +1,24 @@
+"""A simulated building made like a data set: its camera, two drives, VPR-Bench's truth."""
+
+import numpy as np
+
+from envs.runs.sim2real import Matched, matched_truth, record
+from envs.tasks.tour import Tour
+from envs.world.sensor import Sensor
+from placeclust.camera import CameraSpec
+
+
+def test_queries_match_references_nearby_in_the_same_room_looking_the_same_way():
+    pose = np.array([[0.0, 0.0, 0.0], [0.5, 0.0, 0.0], [0.5, 0.0, np.pi], [3.0, 0.0, 0.0]])
+    ref = Tour(np.zeros((4, 2, 2, 3), np.uint8), np.array([0, 0, 0, 0]), pose, ["a"])
+    query = Tour(np.zeros((2, 2, 2, 3), np.uint8), np.array([0, 1]),
+                 np.array([[0.2, 0.0, 0.1], [0.2, 0.0, 0.0]]), ["a", "b"])
+    assert matched_truth(ref, query, 1.0, 60.0) == [[0, 1], []]
+
+
+def test_a_grey_data_set_makes_a_grey_simulated_camera(tmp_path):
+    m = Matched(CameraSpec(32, 24, False, 60.0), Sensor(), (("online", "orb"),), rooms=2,
+                steps_per_room=4, stride=2)
+    ref, query = record(1000, m)
+    assert ref.frames.shape == (8, 24, 32, 3) == query.frames.shape
+    assert (ref.frames[..., 0] == ref.frames[..., 2]).all()
