@@ -27,7 +27,7 @@ from __future__ import annotations
 
 import itertools
 import math
-from collections.abc import Mapping, Sequence
+from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass
 
 import numpy as np
@@ -68,6 +68,9 @@ class Transfer:
     rho: Estimate
     pairs: tuple[PairOrder, ...]
     agreement: Estimate
+    #: each method's real score as an interval from the same draws (the simulated side's is
+    #: :func:`placeclust.stats.interval` over buildings)
+    real: tuple[Estimate, ...] = ()
 
     @property
     def concordant(self) -> int:
@@ -107,7 +110,8 @@ def _agreement(sim: np.ndarray, real: np.ndarray, pairs: list[tuple[int, int]]) 
     return np.where(a == b, 1.0, np.where((a == 0) | (b == 0), 0.5, 0.0))
 
 
-def rank_transfer(sim: Mapping[str, Sequence[float]], real: Mapping[str, Sequence[float]],
+def rank_transfer(sim: Mapping[str, Sequence[float]],
+                  real: Mapping[str, Sequence[float]] | RealScore,
                   block: int = BLOCK, confidence: float = CONFIDENCE,
                   n_resamples: int = 2000, seed: int = 0) -> Transfer:
     """How far the simulator's ranking of methods holds on real data.
@@ -115,8 +119,9 @@ def rank_transfer(sim: Mapping[str, Sequence[float]], real: Mapping[str, Sequenc
     Args:
         sim: per method, its score on each simulated building (every method on the same
             buildings, in the same order).
-        real: per method, its score on each real unit (a query's hit, a frame's), every method
-            on the same units in the same order; a method's real score is their mean.
+        real: per method, its score on each real unit (a query's hit), every method on the
+            same units in the same order, a method's real score being their mean; or a
+            :class:`RealScore` for a score that is not a mean of units (NMI of a clustering).
         block: real units resampled together (:func:`block_resample`).
         confidence, n_resamples, seed: the bootstrap.
 
@@ -129,20 +134,57 @@ def rank_transfer(sim: Mapping[str, Sequence[float]], real: Mapping[str, Sequenc
     Raises:
         ValueError: the two sides name other methods, or a side's methods differ in length.
     """
-    if set(sim) != set(real):
+    if not isinstance(real, RealScore):
+        real = RealScore.of_means(real)
+    if set(sim) != set(real.methods):
         raise ValueError(f"the two sides must score the same methods: simulated "
-                         f"{sorted(sim)}, real {sorted(real)}")
+                         f"{sorted(sim)}, real {sorted(real.methods)}")
     methods = tuple(sim)
     s = np.array([np.asarray(sim[m], float) for m in methods]).T  # (buildings, methods)
-    r = np.array([np.asarray(real[m], float) for m in methods]).T  # (units, methods)
-    if s.ndim != 2 or r.ndim != 2 or not len(s) or not len(r):
+    if s.ndim != 2 or not len(s) or not real.n_units:
         raise ValueError("every method needs scores on the same buildings and the same units")
-    sim_means, real_means = s.mean(axis=0), r.mean(axis=0)
-    pairs = list(itertools.combinations(range(len(methods)), 2))
     rng = np.random.default_rng(seed)
     sim_draws = s[rng.integers(0, len(s), (n_resamples, len(s)))].mean(axis=1)
-    real_draws = np.array([r[block_resample(len(r), block, rng)].mean(axis=0)
+    real_draws = np.array([real.score(methods, block_resample(real.n_units, block, rng))
                            for _ in range(n_resamples)])
+    return _compare(methods, s.mean(axis=0), sim_draws,
+                    real.score(methods, np.arange(real.n_units)), real_draws, confidence)
+
+
+@dataclass(frozen=True)
+class RealScore:
+    """The real side of :func:`rank_transfer` as a score of any subset of its units.
+
+    Attributes:
+        methods: the methods it scores.
+        n_units: frames or queries of the real sequence, in order.
+        score_of: ``(method, unit indices) -> score`` over those units (indices may repeat,
+            as a bootstrap draws them).
+    """
+
+    methods: tuple[str, ...]
+    n_units: int
+    score_of: Callable[[str, np.ndarray], float]
+
+    @classmethod
+    def of_means(cls, per_unit: Mapping[str, Sequence[float]]) -> RealScore:
+        """Each method's score the mean of its units' scores (a query's hit: top-1)."""
+        arrays = {m: np.asarray(v, float) for m, v in per_unit.items()}
+        lengths = {len(v) for v in arrays.values()}
+        if len(lengths) != 1:
+            raise ValueError("every method needs scores on the same real units, got "
+                             f"{sorted(lengths)} of them")
+        return cls(tuple(arrays), lengths.pop(),
+                   lambda m, idx: float(arrays[m][idx].mean()) if len(idx) else math.nan)
+
+    def score(self, methods: Sequence[str], idx: np.ndarray) -> np.ndarray:
+        """Every method's score on units ``idx``, in ``methods``' order."""
+        return np.array([self.score_of(m, idx) for m in methods])
+
+
+def _compare(methods: tuple[str, ...], sim_means: np.ndarray, sim_draws: np.ndarray,
+             real_means: np.ndarray, real_draws: np.ndarray, confidence: float) -> Transfer:
+    """The :class:`Transfer` of both sides' points and ``(resamples, methods)`` draws."""
     tail = (1 - confidence) / 2 * 100
 
     def estimate(point: float, draws: np.ndarray, n: int) -> Estimate:
@@ -152,6 +194,7 @@ def rank_transfer(sim: Mapping[str, Sequence[float]], real: Mapping[str, Sequenc
         low, high = np.percentile(draws, [tail, 100 - tail])
         return Estimate(point, float(min(low, point)), float(max(high, point)), n, confidence)
 
+    pairs = list(itertools.combinations(range(len(methods)), 2))
     rho = math.nan if len(methods) < 3 else float(_spearman(sim_means, real_means))
     rho_draws = _spearman(sim_draws, real_draws) if len(methods) >= 3 else np.array([])
     orders: list[PairOrder] = []
@@ -167,4 +210,6 @@ def rank_transfer(sim: Mapping[str, Sequence[float]], real: Mapping[str, Sequenc
     return Transfer(methods, tuple(float(x) for x in sim_means),
                     tuple(float(x) for x in real_means),
                     estimate(rho, rho_draws, len(methods)), tuple(orders),
-                    estimate(agree_share, agree_draws, len(pairs)))
+                    estimate(agree_share, agree_draws, len(pairs)),
+                    tuple(estimate(float(real_means[k]), real_draws[:, k], 1)
+                          for k in range(len(methods))))

@@ -4,8 +4,9 @@ data set's camera, and whether it ranks recognizers as the data does.
     placeclust like ../shared/data/vpr-bench-corridor --split val [--sensor grey=1 jpeg=75]
 
 The measuring is :mod:`envs.runs.sim2real`'s (how a building is made like the data set, what
-is kept); this module parses the command and writes the report: both sides' top-1 per
-configuration, :func:`placeclust.transfer.rank_transfer`'s rank correlation (buildings
+is kept); this module parses the command and writes the report: both sides' score per
+configuration (VPR-Bench's top-1; for a labelled image folder, NMI of its clustering),
+:func:`placeclust.transfer.rank_transfer`'s rank correlation (buildings
 resampled on the simulated side, blocks of queries on the real side) and pairwise agreement,
 and the image statistics side by side.
 """
@@ -26,71 +27,92 @@ from placeclust.argparsing import ArgumentParser
 from placeclust.camera import camera_of
 from placeclust.docs_section import write_section
 from placeclust.imagestats import stats_table
-from placeclust.runner import preset_params
+from placeclust.metrics import nmi
+from placeclust.realdata import dataset_kind
+from placeclust.runner import ALGORITHMS, preset_params
 from placeclust.stats import interval
-from placeclust.transfer import BLOCK, Transfer, block_resample, rank_transfer
+from placeclust.transfer import BLOCK, RealScore, Transfer, rank_transfer
 
-from ..runs.sim2real import ALGOS, FEATURES, Matched, config_name, run_matched
+from ..runs.sim2real import ALGOS, FEATURES, QUESTIONS, Matched, config_name, run_matched
 from ..world.layout import room_count
 from ..world.sensor import Sensor
 from ..world.splits import SPLITS, check_split
 from ..world.splits import scenes as split_scenes
 
 
+def real_score(real: dict[str, Any], names: list[str], question: str) -> RealScore:
+    """The real side as :func:`placeclust.transfer.rank_transfer` resamples it: each query's
+    hit (VPR-Bench), or each frame's place and label, NMI recomputed on the frames drawn."""
+    if question == "vpr-bench":
+        return RealScore.of_means({n: real["configs"][n]["hits"] for n in names})
+    labels = np.asarray(real["labels"])
+    places = {n: np.asarray(real["configs"][n]["places"]) for n in names}
+
+    def score(name: str, idx: np.ndarray) -> float:
+        kept = idx[labels[idx] >= 0]
+        return nmi(places[name][kept], labels[kept]) if len(kept) else float("nan")
+
+    return RealScore(tuple(names), len(labels), score)
+
+
 def transfer_of(real: dict[str, Any], sims: list[dict[str, Any]], m: Matched) -> Transfer:
     """The rank comparison over the configurations that ran on both sides."""
     names = [config_name(a, f) for a, f in m.configs]
-    return rank_transfer({n: [s["configs"][n]["top1"] for s in sims] for n in names},
-                         {n: real["configs"][n]["hits"] for n in names})
+    return rank_transfer({n: [s["configs"][n]["score"] for s in sims] for n in names},
+                         real_score(real, names, m.question))
+
+
+def _question(m: Matched) -> str:
+    if m.question == "images":
+        return ("one drive of the tour, clustered; NMI against its rooms, as the folder's "
+                "against its labels (`placeclust.realdata.cluster_folder`)")
+    return (f"the reference and query drives the two halves of one tour under one light; a "
+            f"query's references lie within {m.radius:g} m in its room, heading within half "
+            "the field of view; top-1 at the level of places (VPR-Bench's, "
+            "`placeclust.vprbench`)")
 
 
 def report(dataset: str, real: dict[str, Any], sims: list[dict[str, Any]], m: Matched
            ) -> str:
     """The markdown section: both sides per configuration, the agreement, image statistics."""
     t = transfer_of(real, sims, m)
-    scenes = ", ".join(str(s["scene"]) for s in sims)
-    rng = np.random.default_rng(0)
+    metric = QUESTIONS[m.question]
+    names = list(t.methods)
+    units = "queries" if m.question == "vpr-bench" else "frames"
     lines = [f"Camera like `{dataset}`'s: {m.camera.describe()}; sensor "
-             f"{m.sensor.as_dict() or 'none'}. Simulated: scene seeds {scenes}, {m.rooms} "
-             f"rooms, {m.steps_per_room} frames a room a drive (every {m.stride}), the reference "
-             f"and query drives the two halves of one tour under one light; a query's references "
-             f"lie within {m.radius:g} m in its room, heading within half the field of view "
-             f"({np.mean([s['queries'] for s in sims]):.0f} queries with one a building). Top-1 "
-             "at the level of places (VPR-Bench's, `placeclust.vprbench`): simulated, the mean "
-             "over buildings with its 95% bootstrap interval over buildings; real, over queries "
-             f"with a moving-block bootstrap of {BLOCK} queries.", "",
-             "| configuration | simulated top-1 [95%] | chance (sim) | real top-1 [95%] | "
-             "chance (real) | places (real) |", "|---|---|---|---|---|---|"]
-    for name, sim_mean in zip(t.methods, t.sim_means):
-        est = interval([[s["configs"][name]["top1"]] for s in sims])
-        hits = np.asarray(real["configs"][name]["hits"])
-        draws = [hits[block_resample(len(hits), BLOCK, rng)].mean() for _ in range(2000)]
-        low, high = np.percentile(draws, [2.5, 97.5])
-        sim_chance = np.mean([s["configs"][name]["chance"] for s in sims])
+             f"{m.sensor.as_dict() or 'none'}. Simulated: scene seeds "
+             f"{', '.join(str(s['scene']) for s in sims)}, {m.rooms} rooms, "
+             f"{m.steps_per_room} frames a room a drive (every {m.stride}); {_question(m)} "
+             f"({np.mean([s['queries'] for s in sims]):.0f} {units} scored a building). "
+             f"Simulated {metric}: the mean over buildings with its 95% bootstrap interval over "
+             f"buildings; real: with a moving-block bootstrap of {BLOCK} {units}.", "",
+             f"| configuration | simulated {metric} [95%] | real {metric} [95%] | places "
+             "(real) |", "|---|---|---|---|"]
+    for k, (name, sim_mean) in enumerate(zip(names, t.sim_means)):
+        est, on_real = interval([[s["configs"][name]["score"]] for s in sims]), t.real[k]
         rc = real["configs"][name]
+        chance = f" (chance {rc['chance']:.3f})" if "chance" in rc else ""
         lines.append(f"| {name} | {sim_mean:.3f} [{est.low:.3f}, {est.high:.3f}] | "
-                     f"{sim_chance:.3f} | {rc['top1']:.3f} [{low:.3f}, {high:.3f}] | "
-                     f"{rc['chance']:.3f} | {rc['n_places']} |")
-    lines += ["", f"Spearman's rank correlation over {len(t.methods)} configurations: "
+                     f"{on_real.mean:.3f} [{on_real.low:.3f}, {on_real.high:.3f}]{chance} | "
+                     f"{rc['n_places']} |")
+    lines += ["", f"Spearman's rank correlation over {len(names)} configurations: "
               f"{t.rho.mean:.2f} [{t.rho.low:.2f}, {t.rho.high:.2f}]; pairs ordered alike: "
               f"{t.agreement.mean:.2f} [{t.agreement.low:.2f}, {t.agreement.high:.2f}] "
               f"({t.concordant} alike, {t.discordant} opposite, {t.ties} tied on a side, of "
               f"{len(t.pairs)}).", ""]
     opposite = [p for p in t.pairs if p.verdict == "disagree"]
     if opposite:
-        lines += ["Pairs the simulator orders against the data (A − B top-1; share of "
+        lines += [f"Pairs the simulator orders against the data (A − B {metric}; share of "
                   "resamples that order them alike):", "",
                   "| A | B | simulated A − B | real A − B | alike in resamples |",
                   "|---|---|---|---|---|"]
         lines += [f"| {p.a} | {p.b} | {p.sim:+.3f} | {p.real:+.3f} | {p.p_agree:.2f} |"
                   for p in opposite]
         lines.append("")
-    stats = {f"{dataset} (ref/)": real["image_stats"],
-             **{f"simulated scene {s['scene']} (reference drive)": s["image_stats"]
-                for s in sims}}
+    stats = {f"{dataset}": real["image_stats"],
+             **{f"simulated scene {s['scene']}": s["image_stats"] for s in sims}}
     lines += ["Image statistics (SIFT, the 500 strongest keypoints, Lowe's ratio 0.8, "
-              "`placeclust.imagestats`; simulated places are rooms, the data set's are not "
-              "labelled):", "", stats_table(stats)]
+              "`placeclust.imagestats`; simulated places are rooms):", "", stats_table(stats)]
     return "\n".join(lines)
 
 
@@ -99,11 +121,14 @@ def build_parser(prog: str) -> ArgumentParser:
 
     p = ArgumentParser(prog=prog, description=__doc__,
                        formatter_class=argparse.RawDescriptionHelpFormatter)
-    p.add_argument("dataset", help="a VPR-Bench folder (ref/, query/, ground truth)")
+    p.add_argument("dataset", help="a VPR-Bench folder (ref/, query/, ground truth) or an "
+                   "image folder with labels.csv")
     p.add_argument("--split", choices=tuple(SPLITS), help="simulated buildings: the first 4 "
                    "of this split unless --scenes names some of it")
     p.add_argument("--scenes", nargs="+", type=int, help="simulated buildings' scene seeds")
-    p.add_argument("--algos", nargs="+", default=list(ALGOS), choices=ALGOS)
+    p.add_argument("--algos", nargs="+", default=list(ALGOS), choices=ALGORITHMS,
+                   help=f"recognizers (default {' '.join(ALGOS)}; a VPR-Bench data set needs "
+                   "ones that localize on a fixed map)")
     p.add_argument("--features", nargs="+", default=list(FEATURES), choices=FEATURES)
     p.add_argument("--preset", choices=tuple(PRESETS), default="paper")
     p.add_argument("--param", action="append", metavar="NAME=VALUE",
@@ -132,20 +157,27 @@ def matched_from_args(args: argparse.Namespace) -> tuple[str, list[int], Matched
     """The data set, scenes, settings and report folder that ARGS ask for.
 
     Raises:
-        ValueError: a bad --stride, --radius, --steps-per-room, --sensor or split.
+        ValueError: a data set of neither kind, recognizers a VPR-Bench set's queries cannot
+            use, a bad --stride, --radius, --steps-per-room, --sensor or split.
     """
     if args.stride < 1 or args.steps_per_room < 1:
         raise ValueError(f"--stride and --steps-per-room must be at least 1, got "
                          f"{args.stride} and {args.steps_per_room}")
     if not (math.isfinite(args.radius) and args.radius > 0):
         raise ValueError(f"--radius must be a positive number of metres, got {args.radius}")
+    question = dataset_kind(args.dataset)
+    cannot = [a for a in args.algos if a not in ALGOS]
+    if question == "vpr-bench" and cannot:
+        raise ValueError(f"{', '.join(cannot)} cannot localize on a fixed map, which a "
+                         f"VPR-Bench data set's queries need; use {' or '.join(ALGOS)}")
     configs = tuple((a, f) for a in dict.fromkeys(args.algos)
                     for f in dict.fromkeys(args.features))
     scene_list = list(args.scenes or (split_scenes(args.split)[:4] if args.split else []))
     if args.split:
         check_split(args.split, scene_list)
     params = preset_params(args.preset, args.param)
-    m = Matched(camera_of(args.dataset), Sensor.parse(args.sensor), configs, rooms=args.rooms,
+    m = Matched(camera_of(args.dataset), Sensor.parse(args.sensor), configs, question,
+                rooms=args.rooms,
                 steps_per_room=args.steps_per_room, stride=args.stride, radius=args.radius,
                 doors=args.doors, params=tuple(sorted(params.items())))
     return args.dataset, scene_list, m, Path(args.out or f"runs/like-{Path(args.dataset).name}")

@@ -11,7 +11,10 @@ light; and VPR-Bench's ground truth from positions, each query's references bein
 ``radius`` metres in its room that look the same way (heading within half the field of view:
 a forward camera turned round sees another place). Every recognizer × feature configuration
 then maps ``ref/`` and localizes ``query/`` on both sides through the same code
-(:func:`placeclust.realdata.vpr_bench`).
+(:func:`placeclust.realdata.vpr_bench`). For a labelled image folder the question is the
+folder's: one drive (the tour's first half) clustered by every configuration and scored by NMI
+against its rooms, as the folder is against its labels
+(:func:`placeclust.realdata.cluster_folder`).
 
 Every building's figures are kept in ``OUT/sim/scene_S.json`` and the data set's in
 ``OUT/real.json``, stamped with the code (this module's and the simulator's) and the
@@ -32,8 +35,9 @@ import numpy as np
 
 from placeclust.atomic import write_atomic
 from placeclust.camera import CameraSpec
+from placeclust.datasets import ImageFolder
 from placeclust.imagestats import image_stats
-from placeclust.realdata import dataset_kind, fingerprint, vpr_bench
+from placeclust.realdata import cluster_folder, dataset_kind, fingerprint, vpr_bench
 from placeclust.strict_json import dumps
 from placeclust.vprbench import VPRBench, nearby_truth
 
@@ -42,19 +46,25 @@ from ..world.sensor import Sensor
 from .pool import run_all
 from .suite import sources_fingerprint
 
-#: the recognizers that can take queries on a fixed map (``localize_one``)
+#: the recognizers that can take queries on a fixed map (``localize_one``): VPR-Bench's
+#: question needs them; a labelled folder's (clustering) takes any of ``ALGORITHMS``
 ALGOS = ("online", "nested")
+#: the two questions: a VPR-Bench data set's (map ``ref/``, localize ``query/``, top-1) and a
+#: labelled image folder's (cluster it, NMI against its labels)
+QUESTIONS = {"vpr-bench": "top-1", "images": "NMI"}
 #: every feature type both recognizers run with
 FEATURES = ("sift", "kaze", "surf", "orb", "akaze")
 
 
 @dataclass(frozen=True)
 class Matched:
-    """One matched comparison's settings (every building runs the same)."""
+    """One matched comparison's settings (every building runs the same); ``question`` is one
+    of :data:`QUESTIONS`, the data set's kind (:func:`placeclust.realdata.dataset_kind`)."""
 
     camera: CameraSpec
     sensor: Sensor
     configs: tuple[tuple[str, str], ...]
+    question: str = "vpr-bench"
     rooms: int = 4
     steps_per_room: int = 100
     stride: int = 1
@@ -108,8 +118,16 @@ def simulated_vpr_bench(scene: int, m: Matched, folder: Path) -> tuple[int, dict
     ref, query = record(scene, m)
     truth = matched_truth(ref, query, m.radius, m.camera.fov)
     write_vpr_bench(folder, ref.frames, query.frames, truth)
-    rooms = ref.room if len(np.unique(ref.room[ref.room >= 0])) >= 2 else None
-    return sum(1 for t in truth if t), image_stats(ref.frames, rooms, features="sift")
+    return sum(1 for t in truth if t), image_stats(ref.frames, _places(ref.room),
+                                                    features="sift")
+
+
+def _places(labels: np.ndarray | None) -> np.ndarray | None:
+    """``labels`` where they name two places or more (image statistics' across-place pairs
+    need two), else None."""
+    if labels is None or len(np.unique(labels[labels >= 0])) < 2:
+        return None
+    return labels
 
 
 def query_hits(run_: Any, data: VPRBench) -> list[float]:
@@ -126,9 +144,24 @@ def score_configs(data: VPRBench, m: Matched) -> dict[str, dict[str, Any]]:
         run_ = vpr_bench(algo, data, features, **dict(m.params))
         hits = query_hits(run_, data)
         out[config_name(algo, features)] = {
-            "hits": hits, "top1": float(np.mean(hits)) if hits else math.nan,
+            "hits": hits, "score": float(np.mean(hits)) if hits else math.nan,
             "chance": run_.metrics.get("query_chance", math.nan),
             "n_places": run_.metrics.get("n_places", 0)}
+    return out
+
+
+def cluster_configs(frames: Any, labels: np.ndarray, m: Matched, keep: bool = False
+                    ) -> dict[str, dict[str, Any]]:
+    """Every configuration clustering one labelled sequence: NMI against the labels (frames
+    labelled -1 left out), precision, places; with ``keep`` each frame's place too."""
+    out = {}
+    for algo, features in m.configs:
+        run_ = cluster_folder(algo, frames, features, labels=labels, **dict(m.params))
+        out[config_name(algo, features)] = {
+            "score": run_.metrics.get("nmi", math.nan),
+            "precision": run_.metrics.get("precision", math.nan),
+            "n_places": run_.metrics.get("n_places", 0),
+            **({"places": run_.result.assignments.tolist()} if keep else {})}
     return out
 
 
@@ -139,26 +172,40 @@ def building_job(scene: int, m: Matched, out: str) -> dict[str, Any]:
         kept = json.loads(path.read_text())
         if kept.get("stamp") == m.stamp():
             return kept
-    with tempfile.TemporaryDirectory() as tmp:
-        n_queries, stats = simulated_vpr_bench(scene, m, Path(tmp))
-        result = {"stamp": m.stamp(), "scene": scene, "queries": n_queries,
-                  "configs": score_configs(VPRBench(tmp), m), "image_stats": stats}
+    if m.question == "images":  # one drive, clustered and scored against its rooms
+        ref, _ = record(scene, m)
+        result = {"stamp": m.stamp(), "scene": scene, "queries": len(ref.frames),
+                  "configs": cluster_configs(ref.frames, ref.room, m),
+                  "image_stats": image_stats(ref.frames, _places(ref.room), features="sift")}
+    else:
+        with tempfile.TemporaryDirectory() as tmp:
+            n_queries, stats = simulated_vpr_bench(scene, m, Path(tmp))
+            result = {"stamp": m.stamp(), "scene": scene, "queries": n_queries,
+                      "configs": score_configs(VPRBench(tmp), m), "image_stats": stats}
     path.parent.mkdir(parents=True, exist_ok=True)
     _write(path, result)
     return result
 
 
 def real_side(dataset: str, m: Matched, out: Path) -> dict[str, Any]:
-    """The data set's own figures, kept in ``OUT/real.json``."""
+    """The data set's own figures, kept in ``OUT/real.json``: per configuration its score,
+    and what the report resamples (each query's hit, or each frame's place and label)."""
     path = out / "real.json"
     stamp = f"{m.stamp()}:{fingerprint(dataset)}"
     if path.exists():
         kept = json.loads(path.read_text())
         if kept.get("stamp") == stamp:
             return kept
-    data = VPRBench(dataset)
-    result = {"stamp": stamp, "configs": score_configs(data, m),
-              "image_stats": image_stats(data.ref, features="sift")}
+    if m.question == "images":
+        folder = ImageFolder(dataset)
+        assert folder.labels is not None  # dataset_kind checked
+        result = {"stamp": stamp, "labels": folder.labels.tolist(),
+                  "configs": cluster_configs(folder, folder.labels, m, keep=True),
+                  "image_stats": image_stats(folder, _places(folder.labels), features="sift")}
+    else:
+        data = VPRBench(dataset)
+        result = {"stamp": stamp, "configs": score_configs(data, m),
+                  "image_stats": image_stats(data.ref, features="sift")}
     out.mkdir(parents=True, exist_ok=True)
     _write(path, result)
     return result
@@ -175,13 +222,11 @@ def run_matched(dataset: str, scenes: list[int], m: Matched, out: Path, workers:
     """The real side and every simulated building (resuming kept ones).
 
     Raises:
-        ValueError: the data set is not a VPR-Bench folder (a labelled image folder's
-            question, clustering, is not matched yet), or no scene is given.
+        ValueError: ``m.question`` is not the data set's kind, or no scene is given.
     """
-    if dataset_kind(dataset) != "vpr-bench":
-        raise ValueError(f"{dataset} is a labelled image folder; placeclust like asks a "
-                         "VPR-Bench data set's question (map ref/, localize query/) and cannot "
-                         "match a clustering one yet")
+    kind = dataset_kind(dataset)
+    if kind != m.question:
+        raise ValueError(f"{dataset} asks the {kind} question, not {m.question}'s")
     if not scenes:
         raise ValueError("no simulated buildings: give --scenes or --split")
     real = real_side(dataset, m, out)

@@ -52,9 +52,25 @@ def test_both_sides_run_the_same_configurations_and_resume(real, tmp_path, capsy
     assert "| online (orb) |" in capsys.readouterr().out
 
 
+def test_a_labelled_folder_is_clustered_on_both_sides(tmp_path, two_places):
+    frames, truth = two_places
+    folder = tmp_path / "labelled"
+    write_image_folder(folder, frames[:, :96, :128], [f"room {t}" for t in truth])
+    out = tmp_path / "out"
+    with pytest.raises(SystemExit) as done:
+        _like(folder, out, "--algos", "online", "stream")
+    assert done.value.code == 0
+    text = (out / "results.md").read_text()
+    assert "| simulated NMI [95%] | real NMI [95%] |" in text
+    assert "| stream (orb) |" in text and "128×96 colour" in text
+    real = json.loads((out / "real.json").read_text())
+    assert len(real["configs"]["online (orb)"]["places"]) == len(truth) == len(real["labels"])
+
+
 @pytest.mark.parametrize("setup, extra, message", [
-    ("labelled", (), "labelled image folder"),
-    ("vpr", ("--algos", "kmeans"), "invalid choice: 'kmeans'"),
+    ("unlabelled", (), "has no labels.csv"),
+    ("vpr", ("--algos", "kmeans"), "kmeans cannot localize on a fixed map"),
+    ("vpr", ("--algos", "knn"), "invalid choice: 'knn'"),
     ("vpr", ("--radius", "-1"), "--radius must be a positive"),
     ("vpr", ("--stride", "0"), "must be at least 1"),
     ("vpr", ("--split", "val", "--scenes", "5"), "are not in the 'val' split"),
@@ -63,9 +79,9 @@ def test_both_sides_run_the_same_configurations_and_resume(real, tmp_path, capsy
 def test_bad_input_is_one_line_exit_2_and_writes_nothing(real, tmp_path, capsys, setup, extra,
                                                          message):
     folder = real
-    if setup == "labelled":
-        folder = tmp_path / "labelled"
-        write_image_folder(folder, np.zeros((3, 20, 20, 3), np.uint8), ["a", "a", "b"])
+    if setup == "unlabelled":
+        folder = tmp_path / "unlabelled"
+        write_image_folder(folder, np.zeros((3, 20, 20, 3), np.uint8))
     with pytest.raises(SystemExit) as code:
         _like(folder, tmp_path / "out", *extra)
     err = capsys.readouterr().err.strip()
