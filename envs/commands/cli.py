@@ -334,7 +334,7 @@ def build_parser() -> argparse.ArgumentParser:
                       "field of view, degrees")
     tour.add_argument("--sensor", nargs="+", metavar="NAME=VALUE", help="a real camera's "
                       "effects (envs.world.sensor: grey, exposure, shot_noise, read_noise, "
-                      "motion_blur, vignetting, jpeg)")
+                      "motion_blur, blur, vignetting, jpeg)")
     tour.add_argument("--lighting", default="day", choices=LIGHTING)
     tour.add_argument("--doors", type=float, metavar="F", help="a building with doors: F of the "
                       "doorways with an automatic door (envs.world.doors; default: none)")

@@ -134,7 +134,7 @@ def build_parser(prog: str) -> ArgumentParser:
     p.add_argument("--param", action="append", metavar="NAME=VALUE",
                    help="a constructor argument of every recognizer run (repeatable)")
     p.add_argument("--sensor", nargs="+", metavar="NAME=VALUE", help="the camera's effects "
-                   "(envs.world.sensor: grey, exposure, shot_noise, read_noise, motion_blur, "
+                   "(envs.world.sensor: grey, exposure, shot_noise, read_noise, motion_blur, blur, "
                    "vignetting, jpeg); a grey data set makes the camera grey")
     p.add_argument("--rooms", type=room_count, default=4)
     p.add_argument("--steps-per-room", type=int, default=100, help="frames a room a drive")

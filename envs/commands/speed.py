@@ -173,10 +173,10 @@ ROWS: tuple[tuple[int, int, int, dict[str, Any]], ...] = (
 EFFECTS: dict[str, tuple[Sensor, float]] = {
     "grey": (Sensor(grey=True), 0.0), "exposure +0.5 EV": (Sensor(exposure=0.5), 0.0),
     "shot + read noise": (Sensor(shot_noise=1.0, read_noise=2.0), 0.0),
-    "motion blur, 9 px": (Sensor(motion_blur=0.02), 9.0),
+    "motion blur, 9 px": (Sensor(motion_blur=0.02), 9.0), "lens blur 1 px": (Sensor(blur=1.0), 0.0),
     "vignetting 0.3": (Sensor(vignetting=0.3), 0.0), "JPEG 75": (Sensor(jpeg=75), 0.0),
     "all of them": (Sensor(grey=True, exposure=0.5, shot_noise=1.0, read_noise=2.0,
-                           motion_blur=0.02, vignetting=0.3, jpeg=75), 9.0)}
+                           motion_blur=0.02, blur=1.0, vignetting=0.3, jpeg=75), 9.0)}
 #: forward-camera sizes the effects are timed at: the corridor's, the env's default, RTAB-Map's
 SENSOR_SIZES = ((160, 120), (320, 240), (512, 384))
 

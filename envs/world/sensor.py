@@ -1,13 +1,13 @@
-"""What a real camera adds to a rendered frame: motion blur, vignetting, exposure, noise,
-grey sensors and JPEG.
+"""What a real camera adds to a rendered frame: motion blur, a soft lens, vignetting,
+exposure, noise, grey sensors and JPEG.
 
 The renderer draws a perfect pinhole picture. Real frames are smeared while the robot turns,
 darker at the corners, over- or under-exposed, noisy (photon noise grows with the light, read
 noise does not), often grey, and compressed. Recognition lives in exactly those details (how
 many keypoints a frame yields, how many survive to the next frame), so a simulator that is to
 rank recognizers as real images do needs them. :class:`Sensor` applies them in the order light
-meets a camera: optics (motion blur, vignetting), the sensor (exposure gain, photon and read
-noise, quantization to 8 bits), then the encoder (JPEG).
+meets a camera: optics (motion blur, lens blur, vignetting), the sensor (exposure gain, photon
+and read noise, quantization to 8 bits), then the encoder (JPEG).
 
 Every effect is off by default, and a :class:`Sensor` with none leaves a frame untouched (the
 same array, not a copy). The Gymnasium wrapper :class:`envs.tasks.camera_sensor.CameraSensor`
@@ -52,6 +52,8 @@ class Sensor:
         read_noise: the sensor's signal-independent noise, standard deviation in grey levels.
         motion_blur: exposure time in seconds: while the robot turns at ``w`` rad/s the frame
             is smeared horizontally over ``w * motion_blur * focal`` pixels.
+        blur: a soft lens or slight defocus: a Gaussian blur of this standard deviation in
+            pixels (a rendered frame is sharper than any real lens makes it).
         vignetting: relative fall-off of light at the image's corners (0.3: corners get 70%),
             quadratic in the distance from the centre.
         jpeg: JPEG quality, 1-100 (0: no compression).
@@ -62,11 +64,13 @@ class Sensor:
     shot_noise: float = 0.0
     read_noise: float = 0.0
     motion_blur: float = 0.0
+    blur: float = 0.0
     vignetting: float = 0.0
     jpeg: int = 0
 
     def __post_init__(self) -> None:
-        for name in ("exposure", "shot_noise", "read_noise", "motion_blur", "vignetting"):
+        for name in ("exposure", "shot_noise", "read_noise", "motion_blur", "blur",
+                     "vignetting"):
             value = getattr(self, name)
             if isinstance(value, bool) or not isinstance(value, (int, float)) \
                     or not math.isfinite(value):
@@ -138,6 +142,9 @@ class Sensor:
             out = np.repeat((out @ LUMA)[..., None], 3, axis=2)
         if blur_px >= 1.0:
             out = _smear(out, blur_px)
+        if self.blur:
+            out = np.asarray(cv2.GaussianBlur(out, (0, 0), self.blur,
+                                              borderType=cv2.BORDER_REFLECT), np.float32)
         if self.vignetting:
             out *= _falloff(out.shape[0], out.shape[1], self.vignetting)[..., None]
         if self.exposure:

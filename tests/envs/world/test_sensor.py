@@ -61,6 +61,13 @@ def test_motion_blur_smears_along_the_turn_only():
     assert (Sensor(motion_blur=0.01).apply(frame, _rng(), blur_px=0) == frame).all()
 
 
+def test_lens_blur_softens_an_edge_on_both_axes():
+    frame = np.zeros((21, 21, 3), np.uint8)
+    frame[10, 10] = 255
+    out = Sensor(blur=1.0).apply(frame, _rng())
+    assert 0 < out[10, 10, 0] < 255 and out[10, 11, 0] > 0 and out[11, 10, 0] > 0
+
+
 def test_vignetting_darkens_the_corners_not_the_centre():
     out = Sensor(vignetting=0.4).apply(_frame(200, (41, 61, 3)), _rng())
     assert int(out[20, 30, 0]) == 200 and int(out[0, 0, 0]) == 120 == int(out[40, 60, 2])
