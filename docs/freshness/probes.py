@@ -62,6 +62,7 @@ _TINY = {
     "seed001": "--split val --n-scenes 1 --rooms 2 --steps-per-room 20",
     "latency": "--sizes 4 8 --repeats 1",
     "speed": "--steps 10 --rounds 1 --workers 1",
+    "like": "--scenes 1000 --rooms 2 --steps-per-room 10",
     "leaderboard": "--split val --n-scenes 2 --rooms 2 --goals-per-scene 1 "
                    "--tour-steps-per-room 25 --workers 1",
     "train.drift": "--n-scenes 1 --rooms 2 --errands 1",

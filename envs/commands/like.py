@@ -55,11 +55,28 @@ def real_score(real: dict[str, Any], names: list[str], question: str) -> RealSco
     return RealScore(tuple(names), len(labels), score)
 
 
-def transfer_of(real: dict[str, Any], sims: list[dict[str, Any]], m: Matched) -> Transfer:
-    """The rank comparison over the configurations that ran on both sides."""
-    names = [config_name(a, f) for a, f in m.configs]
+def transfer_of(real: dict[str, Any], sims: list[dict[str, Any]], m: Matched,
+                algo: str | None = None) -> Transfer:
+    """The rank comparison over the configurations that ran on both sides (``algo``'s alone:
+    whether the simulator picks the features for one recognizer as the data does)."""
+    names = [config_name(a, f) for a, f in m.configs if algo in (None, a)]
     return rank_transfer({n: [s["configs"][n]["score"] for s in sims] for n in names},
                          real_score(real, names, m.question))
+
+
+def _within(real: dict[str, Any], sims: list[dict[str, Any]], m: Matched) -> list[str]:
+    """One line per recognizer run with 3 features or more: its own rank agreement, which a
+    ranking carried by one recognizer failing on both sides would hide."""
+    lines = []
+    for algo in dict.fromkeys(a for a, _ in m.configs):
+        n = sum(a == algo for a, _ in m.configs)
+        if n >= 3:
+            t = transfer_of(real, sims, m, algo)
+            lines.append(f"- `{algo}` over its {n} features: Spearman {t.rho.mean:.2f} "
+                         f"[{t.rho.low:.2f}, {t.rho.high:.2f}], pairs ordered alike "
+                         f"{t.agreement.mean:.2f} [{t.agreement.low:.2f}, "
+                         f"{t.agreement.high:.2f}]")
+    return lines
 
 
 def _question(m: Matched) -> str:
@@ -100,6 +117,9 @@ def report(dataset: str, real: dict[str, Any], sims: list[dict[str, Any]], m: Ma
               f"{t.agreement.mean:.2f} [{t.agreement.low:.2f}, {t.agreement.high:.2f}] "
               f"({t.concordant} alike, {t.discordant} opposite, {t.ties} tied on a side, of "
               f"{len(t.pairs)}).", ""]
+    within = _within(real, sims, m)
+    if within:
+        lines += ["Within one recognizer (the features ranked for it):", "", *within, ""]
     opposite = [p for p in t.pairs if p.verdict == "disagree"]
     if opposite:
         lines += [f"Pairs the simulator orders against the data (A − B {metric}; share of "
