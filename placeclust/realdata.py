@@ -34,6 +34,7 @@ import numpy as np
 
 from placeclust import protocol, strict_json
 from placeclust.datasets import DatasetError, ImageFolder
+from placeclust.loops import TRUTH_FILE, LoopClosures, is_loop_closures
 from placeclust.metrics import latency_summary
 from placeclust.runner import Result, evaluate, localize, run
 from placeclust.vprbench import VPRBench, is_vpr_bench, same_place_truth, score_queries
@@ -171,8 +172,8 @@ def with_queries(run_: SequenceRun, mapped: ImageFolder, query: ImageFolder,
     return run_
 
 
-def vpr_bench(algo: str, data: VPRBench, features: str = "sift", alone: bool = False,
-              progress: bool = False, **params: Any) -> SequenceRun:
+def vpr_bench(algo: str, data: VPRBench | LoopClosures, features: str = "sift",
+              alone: bool = False, progress: bool = False, **params: Any) -> SequenceRun:
     """Map ``data.ref``, localize ``data.query`` on that map, score as VPR-Bench does.
 
     Returns:
@@ -188,18 +189,30 @@ def vpr_bench(algo: str, data: VPRBench, features: str = "sift", alone: bool = F
 
 
 def dataset_kind(path: str | Path) -> str:
-    """``"vpr-bench"`` for a VPR-Bench folder, ``"images"`` for a labelled image folder.
+    """``"vpr-bench"`` for a VPR-Bench folder, ``"loop-closures"`` for a drive with a revisit
+    matrix (:mod:`placeclust.loops`), ``"images"`` for a labelled image folder.
 
     Raises:
-        DatasetError: neither (an image folder without ``labels.csv`` cannot be scored).
+        DatasetError: none of them (an image folder without ``labels.csv`` cannot be scored).
     """
     if is_vpr_bench(path):
         return "vpr-bench"
+    if is_loop_closures(path):
+        return "loop-closures"
     folder = ImageFolder(path)
     if folder.labels is None:
-        raise DatasetError(f"{path} has no labels.csv: a benchmark data set needs labels, or "
-                           "VPR-Bench's layout")
+        raise DatasetError(f"{path} has no labels.csv: a benchmark data set needs labels, "
+                           f"VPR-Bench's layout or a loop-closure matrix ({TRUTH_FILE})")
     return "images"
+
+
+def open_queries(path: str | Path) -> VPRBench | LoopClosures:
+    """A data set that asks VPR-Bench's question (a VPR-Bench or loop-closure folder), open.
+
+    Raises:
+        DatasetError: it is neither, or damaged (named).
+    """
+    return LoopClosures(path) if is_loop_closures(path) else VPRBench(path)
 
 
 def run_dataset(algo: str, path: str | Path, features: str = "sift", progress: bool = False,
@@ -212,8 +225,8 @@ def run_dataset(algo: str, path: str | Path, features: str = "sift", progress: b
         The run and the per-frame truth its rows store (the folder's labels; for VPR-Bench,
         ``-1`` for every reference, which has no place label).
     """
-    if dataset_kind(path) == "vpr-bench":
-        data = VPRBench(path)
+    if dataset_kind(path) != "images":
+        data = open_queries(path)
         return (vpr_bench(algo, data, features, progress=progress, **params),
                 np.full(len(data.ref), -1, np.int64))
     folder = ImageFolder(path)

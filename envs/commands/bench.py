@@ -195,7 +195,7 @@ class Matrix:
 
 
 #: the condition a data set's runs are reported under, by :func:`dataset_kind`
-DATASET_CONDITION = {"images": "images", "vpr-bench": "ref>query"}
+DATASET_CONDITION = {"images": "images", "vpr-bench": "ref>query", "loop-closures": "ref>query"}
 
 
 def can_localize(algo: str) -> bool:

@@ -28,12 +28,19 @@ from placeclust.camera import camera_of
 from placeclust.docs_section import write_section
 from placeclust.imagestats import stats_table
 from placeclust.metrics import nmi
-from placeclust.realdata import dataset_kind
 from placeclust.runner import ALGORITHMS, preset_params
 from placeclust.stats import interval
 from placeclust.transfer import BLOCK, RealScore, Transfer, rank_transfer
 
-from ..runs.sim2real import ALGOS, FEATURES, QUESTIONS, Matched, config_name, run_matched
+from ..runs.sim2real import (
+    ALGOS,
+    FEATURES,
+    QUESTIONS,
+    Matched,
+    config_name,
+    question_of,
+    run_matched,
+)
 from ..world.layout import room_count
 from ..world.sensor import Sensor
 from ..world.splits import SPLITS, check_split
@@ -141,8 +148,9 @@ def build_parser(prog: str) -> ArgumentParser:
 
     p = ArgumentParser(prog=prog, description=__doc__,
                        formatter_class=argparse.RawDescriptionHelpFormatter)
-    p.add_argument("dataset", help="a VPR-Bench folder (ref/, query/, ground truth) or an "
-                   "image folder with labels.csv")
+    p.add_argument("dataset", help="a VPR-Bench folder (ref/, query/, ground truth), a "
+                   "drive with a loop-closure matrix (same_place.bmp) or an image folder with "
+                   "labels.csv")
     p.add_argument("--split", choices=tuple(SPLITS), help="simulated buildings: the first 4 "
                    "of this split unless --scenes names some of it")
     p.add_argument("--scenes", nargs="+", type=int, help="simulated buildings' scene seeds")
@@ -185,11 +193,11 @@ def matched_from_args(args: argparse.Namespace) -> tuple[str, list[int], Matched
                          f"{args.stride} and {args.steps_per_room}")
     if not (math.isfinite(args.radius) and args.radius > 0):
         raise ValueError(f"--radius must be a positive number of metres, got {args.radius}")
-    question = dataset_kind(args.dataset)
+    question = question_of(args.dataset)
     cannot = [a for a in args.algos if a not in ALGOS]
     if question == "vpr-bench" and cannot:
-        raise ValueError(f"{', '.join(cannot)} cannot localize on a fixed map, which a "
-                         f"VPR-Bench data set's queries need; use {' or '.join(ALGOS)}")
+        raise ValueError(f"{', '.join(cannot)} cannot localize on a fixed map, which "
+                         f"{args.dataset}'s queries need; use {' or '.join(ALGOS)}")
     configs = tuple((a, f) for a in dict.fromkeys(args.algos)
                     for f in dict.fromkeys(args.features))
     scene_list = list(args.scenes or (split_scenes(args.split)[:4] if args.split else []))

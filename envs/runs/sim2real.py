@@ -37,7 +37,8 @@ from placeclust.atomic import write_atomic
 from placeclust.camera import CameraSpec
 from placeclust.datasets import ImageFolder
 from placeclust.imagestats import image_stats
-from placeclust.realdata import cluster_folder, dataset_kind, fingerprint, vpr_bench
+from placeclust.loops import LoopClosures
+from placeclust.realdata import cluster_folder, dataset_kind, fingerprint, open_queries, vpr_bench
 from placeclust.strict_json import dumps
 from placeclust.vprbench import VPRBench, nearby_truth
 
@@ -59,7 +60,7 @@ FEATURES = ("sift", "kaze", "surf", "orb", "akaze")
 @dataclass(frozen=True)
 class Matched:
     """One matched comparison's settings (every building runs the same); ``question`` is one
-    of :data:`QUESTIONS`, the data set's kind (:func:`placeclust.realdata.dataset_kind`)."""
+    of :data:`QUESTIONS`, the data set's (:func:`question_of`)."""
 
     camera: CameraSpec
     sensor: Sensor
@@ -76,6 +77,16 @@ class Matched:
         """What a kept figure must match to be reused: these settings and the code."""
         settings = json.dumps(asdict(self), sort_keys=True, default=str)
         return f"{sources_fingerprint(__file__)}:{settings}"
+
+
+def question_of(dataset: str | Path) -> str:
+    """The question a data set asks, one of :data:`QUESTIONS`: a VPR-Bench folder's or a
+    loop-closure drive's (map, then localize queries) or a labelled folder's (cluster).
+
+    Raises:
+        DatasetError: the folder is none of them (named).
+    """
+    return "images" if dataset_kind(dataset) == "images" else "vpr-bench"
 
 
 def config_name(algo: str, features: str) -> str:
@@ -130,15 +141,15 @@ def _places(labels: np.ndarray | None) -> np.ndarray | None:
     return labels
 
 
-def query_hits(run_: Any, data: VPRBench) -> list[float]:
+def query_hits(run_: Any, data: VPRBench | LoopClosures) -> list[float]:
     """Per query with ground truth: 1 when its place holds one of its references (top-1)."""
     ref_places, query_places = run_.result.assignments, run_.query.assignments
     return [float(int(query_places[q]) in set(ref_places[truth].tolist()))
             for q, truth in enumerate(data.ground_truth) if len(truth)]
 
 
-def score_configs(data: VPRBench, m: Matched) -> dict[str, dict[str, Any]]:
-    """Every configuration on one VPR-Bench data set: its per-query hits and top-1."""
+def score_configs(data: VPRBench | LoopClosures, m: Matched) -> dict[str, dict[str, Any]]:
+    """Every configuration on one VPR-Bench question: its per-query hits and top-1."""
     out = {}
     for algo, features in m.configs:
         run_ = vpr_bench(algo, data, features, **dict(m.params))
@@ -203,7 +214,7 @@ def real_side(dataset: str, m: Matched, out: Path) -> dict[str, Any]:
                   "configs": cluster_configs(folder, folder.labels, m, keep=True),
                   "image_stats": image_stats(folder, _places(folder.labels), features="sift")}
     else:
-        data = VPRBench(dataset)
+        data = open_queries(dataset)
         result = {"stamp": stamp, "configs": score_configs(data, m),
                   "image_stats": image_stats(data.ref, features="sift")}
     out.mkdir(parents=True, exist_ok=True)
@@ -224,9 +235,9 @@ def run_matched(dataset: str, scenes: list[int], m: Matched, out: Path, workers:
     Raises:
         ValueError: ``m.question`` is not the data set's kind, or no scene is given.
     """
-    kind = dataset_kind(dataset)
-    if kind != m.question:
-        raise ValueError(f"{dataset} asks the {kind} question, not {m.question}'s")
+    if question_of(dataset) != m.question:
+        raise ValueError(f"{dataset} asks the {question_of(dataset)} question, not "
+                         f"{m.question}'s")
     if not scenes:
         raise ValueError("no simulated buildings: give --scenes or --split")
     real = real_side(dataset, m, out)

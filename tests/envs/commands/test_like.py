@@ -52,6 +52,23 @@ def test_both_sides_run_the_same_configurations_and_resume(real, tmp_path, capsy
     assert "| online (orb) |" in capsys.readouterr().out
 
 
+def test_a_loop_closure_drive_asks_the_vpr_bench_question(tmp_path, two_places):
+    import cv2
+
+    frames, _ = two_places
+    write_image_folder(tmp_path / "loop", frames[[*range(0, 40, 4), *range(0, 20, 4)], :96, :128])
+    same = np.zeros((15, 15), np.uint8)
+    for q in range(5):
+        same[10 + q, q] = 255
+    cv2.imwrite(str(tmp_path / "loop" / "same_place.bmp"), same)
+    with pytest.raises(SystemExit) as done:
+        _like(tmp_path / "loop", tmp_path / "out")
+    assert done.value.code == 0
+    real = json.loads((tmp_path / "out" / "real.json").read_text())
+    assert len(real["configs"]["online (orb)"]["hits"]) == 5
+    assert "| simulated top-1 [95%] |" in (tmp_path / "out" / "results.md").read_text()
+
+
 def test_a_labelled_folder_is_clustered_on_both_sides(tmp_path, two_places):
     frames, truth = two_places
     folder = tmp_path / "labelled"
