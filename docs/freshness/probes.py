@@ -132,7 +132,9 @@ def probe_argv(argv: list[str], out: str | None = None, size: str | None = None)
     kept = [(o, v) for o, v in fixed if o not in given] + kept  # the section's own win
     tokens = [t for o, v in kept for t in ([o] if o else []) + v]
     tiny = shlex.split(_TINY.get(name, "") if size is None else size)
-    if out is not None and name in ("bench", "leaderboard", "demo", "tour"):
+    # commands that keep and resume runs write into the probe's own folder: a kept run in the
+    # default one would be reused, and the trace would miss the code that made it
+    if out is not None and name in ("bench", "leaderboard", "demo", "tour", "like"):
         tiny += ["--out", out]
     return head + tokens + tiny
 

@@ -27,7 +27,7 @@ import functools
 import json
 import math
 import tempfile
-from dataclasses import asdict, dataclass
+from dataclasses import asdict, dataclass, replace
 from pathlib import Path
 from typing import Any
 
@@ -98,7 +98,7 @@ def record(scene: int, m: Matched) -> tuple[Tour, Tour]:
     set's camera, twice ``rooms * steps_per_room`` frames long (every ``stride``-th kept), cut
     in two. A tour visits every room first and then revisits them along other paths, so its
     second half is a second traversal of the places of its first."""
-    sensor = Sensor(**{**asdict(m.sensor), "grey": m.sensor.grey or not m.camera.colour})
+    sensor = replace(m.sensor, grey=m.sensor.grey or not m.camera.colour)
     half = m.rooms * m.steps_per_room
     tour, _ = record_tour(scene, m.rooms, 2 * half * m.stride, seed=0, progress=False,
                           sensor=sensor, camera="forward", image_width=m.camera.width,

@@ -40,12 +40,12 @@ def focal_length(env: gym.Env) -> float:
     if key is None:
         raise TypeError(f"{type(base).__name__} renders no camera image (no image_key): wrap "
                         "a PlaceNav-v0 env")
+    if key != "image":
+        return float(base.geometry.focal)  # type: ignore[attr-defined]
     # EzPickle keeps the constructor's arguments: the one record of the field of view
     kwargs: dict[str, Any] = getattr(base, "_ezpickle_kwargs", {})
-    if key == "image":
-        width = kwargs.get("image_width", 320)
-        return width / (2 * math.tan(math.radians(kwargs.get("image_fov", 70.0)) / 2))
-    return kwargs.get("panorama_width", 512) / (2 * math.pi)
+    width = kwargs.get("image_width", 320)
+    return width / (2 * math.tan(math.radians(kwargs.get("image_fov", 70.0)) / 2))
 
 
 class CameraSensor(gym.Wrapper):

@@ -162,6 +162,11 @@ def test_a_probe_is_the_sections_own_command_at_a_tiny_size():
     assert v2.startswith("placeclust leaderboard --agent relocalizer --track continued "
                          "changed-night changed-cloudy changed-moved carried corridor "
                          "corridor-carried --recognizers oracle none --split val")
+    # a command that keeps its runs writes into the probe's folder, never reuses the default's
+    assert _probe("placeclust like ../shared/data/rtabmap-loop --scenes 1000 1001 "
+                  "--steps-per-room 50 --out runs/like --workers 1 --docs docs/benchmarks.md") == (
+        "placeclust like ../shared/data/rtabmap-loop --scenes 1000 --rooms 2 "
+        "--steps-per-room 10 --out /tmp/x")
 
 
 def test_a_probe_writes_its_figure_beside_its_own_run_never_over_the_docs():
