@@ -13,6 +13,7 @@ import numpy as np
 from scipy.cluster.hierarchy import fcluster, linkage
 from scipy.ndimage import uniform_filter1d
 from scipy.signal import argrelmin
+from scipy.spatial.distance import pdist, squareform
 from sklearn.cluster import KMeans, MiniBatchKMeans
 
 from placeclust.features import FeatureExtractor
@@ -53,8 +54,12 @@ def bag_of_words(descs: list[np.ndarray], binary: bool, n_words: int = 200,
 
     Returns:
         One unit-L2 row per frame (all zeros for a frame without features or whose words
-        occur in every frame).
+        occur in every frame); a single all-zero column when no frame has a feature (a
+        blank wall seen throughout), so the caller still gets one row a frame.
     """
+    if not any(len(d) for d in descs):
+        return np.zeros((len(descs), 1), np.float32)
+
     def as_float(d: np.ndarray) -> np.ndarray:
         return np.unpackbits(d, axis=1).astype(np.float32) if binary else d
 
@@ -135,6 +140,28 @@ def estimate_k(descs: list[np.ndarray], binary: bool, window: int = 15) -> int:
     return int(len(scene_changes(descs, binary, window)) + 1)
 
 
+def cosine_distances(x: np.ndarray) -> np.ndarray:
+    """Condensed cosine distances between rows, defined for all-zero rows too.
+
+    A frame without words (no features, or only words that occur everywhere) has no angle:
+    it is taken as 0 from another such frame and 1 from every other, so a blank stretch
+    forms one cluster instead of making the linkage fail on NaN.
+
+    Args:
+        x: (T, D) vectors.
+
+    Returns:
+        The (T·(T-1)/2,) condensed distance vector SciPy's ``linkage`` takes.
+    """
+    blank = ~x.any(axis=1)
+    with np.errstate(invalid="ignore", divide="ignore"):
+        d = squareform(pdist(x, metric="cosine"), checks=False)
+    d[np.ix_(blank, ~blank)] = d[np.ix_(~blank, blank)] = 1.0
+    d[np.ix_(blank, blank)] = 0.0
+    np.fill_diagonal(d, 0.0)
+    return squareform(np.clip(d, 0.0, 2.0), checks=False)
+
+
 class KMeansPlaces:
     """k-means on bag-of-words vectors (scikit-learn), the weakest baseline of Fig. 2.
 
@@ -191,6 +218,7 @@ class KMeansPlaces:
             Place id per frame, (T,) int.
         """
         x, k = self._prepare(frames)
+        k = min(k, len(np.unique(x, axis=0)))  # identical rows (blank frames) are one place
         return KMeans(n_clusters=k, n_init=10, random_state=self.seed).fit_predict(x)
 
 
@@ -214,5 +242,5 @@ class WPGMAPlaces(KMeansPlaces):
         x, k = self._prepare(frames)
         if len(x) < 2:
             return np.zeros(len(x), np.int64)
-        z = linkage(x, method="weighted", metric="cosine")
+        z = linkage(cosine_distances(x), method="weighted")
         return fcluster(z, t=k, criterion="maxclust").astype(np.int64) - 1

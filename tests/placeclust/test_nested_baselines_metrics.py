@@ -90,3 +90,18 @@ def test_kunion_joins_down_to_the_number_of_places_it_is_given():
     assert len(np.unique(KAdjacentUnion(window=3, n_clusters=9).fit_predict(frames))) == 3
     with pytest.raises(ValueError, match="n_clusters"):
         KAdjacentUnion(n_clusters=0)
+
+
+@pytest.mark.parametrize("algo", ["kmeans", "wpgma"])
+def test_offline_baselines_take_a_blank_stretch_as_one_place(two_places, algo):
+    """Blank frames (no features at all) used to crash the vocabulary and the linkage."""
+    from placeclust.baselines import KMeansPlaces, WPGMAPlaces
+
+    model_cls = KMeansPlaces if algo == "kmeans" else WPGMAPlaces
+    frames, _ = two_places
+    blank = np.full((4,) + frames.shape[1:], 128, np.uint8)
+    assert model_cls(n_clusters=2).fit_predict(blank).tolist() == [0, 0, 0, 0]
+    labels = model_cls(n_clusters=3, max_features=100, n_words=100).fit_predict(
+        np.concatenate([frames, blank]))
+    tail = labels[len(frames):]
+    assert len(set(tail)) == 1 and tail[0] not in set(labels[:len(frames)])
