@@ -3,9 +3,9 @@
     python -m train.evaluate --agent {ppo,random,noplace,oracle,planner,all} [--policy PATH]
         --episodes N --seed S [--json FILE] [--config YML --policies DIR]
 
-``--task unseen`` scores a recognizer in buildings never seen instead (``placeclust errands``,
-:mod:`envs.commands.errands`): a guided tour builds its map, then errands to the rooms the
-guide named.
+A recognizer in buildings never seen (a guided tour builds its map, then errands to the rooms
+the guide named) is scored by ``placeclust errands``, not here; ``--task unseen``, its old
+alias, says so and exits with status 2.
 
 ``--agent all`` scores every agent with its shipped policy and prints a markdown table.
 ``--config`` names the hyperparameter file the agents were trained with (its ``env`` sections
@@ -146,17 +146,17 @@ def evaluate(agent: str, episodes: int, seed: int, policy: Path | None = None,
 def main(argv: list[str] | None = None) -> int:
     argv = sys.argv[1:] if argv is None else list(argv)
     pre = ArgumentParser(add_help=False)
-    pre.add_argument("--task", choices=("reach", "unseen"), default="reach")
+    pre.add_argument("--task", default="reach")
     if pre.parse_known_args(argv)[0].task == "unseen":
-        from envs.commands.errands import main as unseen
-
-        return unseen(argv)
+        # train/ sits on the library and the tasks, not on the command line it would forward to
+        print("python -m train.evaluate: --task unseen is now `placeclust errands` (the same "
+              "options, without --task)", file=sys.stderr)
+        return 2
     p = ArgumentParser(prog="python -m train.evaluate", description=__doc__,
                        formatter_class=argparse.RawDescriptionHelpFormatter)
-    p.add_argument("--task", choices=("reach", "unseen"), default="reach",
-                   help="reach: PlaceNav-ReachRoom-v0 on the training building (this page); "
-                   "unseen: a guided tour, then errands, in buildings never seen (see "
-                   "--task unseen --help)")
+    p.add_argument("--task", choices=("reach",), default="reach",
+                   help="PlaceNav-ReachRoom-v0 on the training building (buildings never seen: "
+                   "placeclust errands)")
     p.add_argument("--agent", required=True, choices=[*sorted(OBSERVES), "all"])
     p.add_argument("--policy", type=Path, help="policy zip (default: the shipped one)")
     p.add_argument("--map", type=Path, help="folder with map.npz (default: the --policies "

@@ -183,8 +183,6 @@ def main(argv: list[str] | None = None, prog: str = "placeclust errands") -> int
     """``placeclust errands ...``: one recognizer, one agent, a split; the exit status."""
     p = ArgumentParser(prog=prog, description=__doc__,
                        formatter_class=argparse.RawDescriptionHelpFormatter)
-    p.add_argument("--task", choices=("unseen",), default="unseen",
-                   help=argparse.SUPPRESS)  # for python -m train.evaluate --task unseen
     add_scope_arguments(p, n_scenes=8)
     p.add_argument("--rooms", type=room_count, default=6)
     add_recognizer_arguments(p, many=False)

@@ -1,5 +1,5 @@
 """The closed loop's store and ranking: the leaderboard resumes, reruns what changed, ranks;
-``train.evaluate --task unseen`` writes its scores."""
+``placeclust errands`` writes its scores."""
 
 import json
 import math
@@ -68,9 +68,9 @@ def test_the_job_fingerprint_follows_the_code_and_the_policy_file(tmp_path, monk
     assert job_fingerprint({"agent": "planner"}) != planner
 
 
-def test_evaluate_unseen_writes_a_results_file(tmp_path, capsys):
+def test_errands_writes_a_results_file(tmp_path, capsys):
     out = tmp_path / "scores.json"
-    code = evaluate.main(["--task", "unseen", "--scene-seeds", "0", "1", "--rooms", "3",
+    code = errands.main(["--scene-seeds", "0", "1", "--rooms", "3",
                           "--recognizer", "oracle", "--goals-per-scene", "2", "--seed", "1",
                           "--json", str(out), "--tour-steps-per-room", "40"])
     assert code == 0
@@ -82,8 +82,16 @@ def test_evaluate_unseen_writes_a_results_file(tmp_path, capsys):
     assert doc["provenance"]["suite"] is None and doc["provenance"]["render_fingerprint"]
     assert "success_rate=" in capsys.readouterr().out
     # a recognizer that is not one is named before any building of the split is toured
-    assert evaluate.main(["--task", "unseen", "--split", "test", "--recognizer", "psychic"]) == 2
+    assert errands.main(["--split", "test", "--recognizer", "psychic"]) == 2
     assert "unknown recognizer 'psychic'" in capsys.readouterr().err
+
+
+def test_train_evaluate_points_its_old_unseen_task_to_placeclust_errands(tmp_path, capsys):
+    assert evaluate.main(["--task", "unseen", "--split", "test", "--json",
+                          str(tmp_path / "s.json")]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "placeclust errands" in err
+    assert not (tmp_path / "s.json").exists()
 
 
 def test_a_recognizer_of_your_own_runs_in_the_closed_loop(tmp_path):
