@@ -1,6 +1,6 @@
 """How alike the places of an image sequence look to local features, simulated or real.
 
-    python -m placeclust.imagestats --images DIR [DIR ...] [--tour tour.npz ...]
+    python -m placeclust.imagestats --images DIR [DIR ...] [--tour tour.npz ...] [--stride K]
     placeclust stats [...]    # the same, from the simulator's command line
 
 A place recognizer tells places apart by how many local features two images share. This
@@ -227,6 +227,16 @@ def _open_tour(path: str) -> tuple[str, Sequence[np.ndarray], np.ndarray | None]
     return path, frames, room
 
 
+def _strided(source: tuple[str, Sequence[np.ndarray], np.ndarray | None], stride: int
+             ) -> tuple[str, Sequence[np.ndarray], np.ndarray | None]:
+    """Every ``stride``-th frame of a tour, named so the table says it."""
+    if stride == 1:
+        return source
+    name, frames, labels = source
+    return (f"{name} (every {stride})", frames[::stride],
+            None if labels is None else labels[::stride])
+
+
 def main(argv: list[str] | None = None, prog: str = "python -m placeclust.imagestats") -> int:
     """The image statistics' command line (``placeclust stats``); the exit status."""
     p = ArgumentParser(prog=prog, description=__doc__,
@@ -241,6 +251,10 @@ def main(argv: list[str] | None = None, prog: str = "python -m placeclust.images
     p.add_argument("--max-features", type=int, default=500, metavar="N",
                    help="keypoints kept per frame, strongest first (the recognizers' default)")
     p.add_argument("--seed", type=int, default=0, help="draws the across/within pairs")
+    p.add_argument("--stride", type=int, default=1, metavar="K",
+                   help="keep every K-th frame of each --tour: a tour steps 0.1 s, a data "
+                   "set's frames are spaced as it was recorded, and next-frame matches "
+                   "fall with the spacing")
     p.add_argument("--docs", metavar="FILE", help="also write the table into FILE's "
                    "'image-stats' section (docs/benchmarks.md), or --section's")
     p.add_argument("--section", default="image-stats", help="the section --docs writes")
@@ -252,9 +266,12 @@ def main(argv: list[str] | None = None, prog: str = "python -m placeclust.images
         p.error("--pairs must be at least 1")
     if args.max_features < 1:
         p.error("--max-features must be at least 1")
+    if args.stride < 1:
+        p.error(f"--stride must be at least 1, got {args.stride}")
     rows: dict[str, dict] = {}
     try:  # open every input first, so a bad one fails before minutes of detection
-        sources = [_open_folder(d) for d in args.images] + [_open_tour(f) for f in args.tour]
+        sources = [_open_folder(d) for d in args.images]
+        sources += [_strided(_open_tour(f), args.stride) for f in args.tour]
         for name, frames, labels in sources:
             # one labelled place has no across pairs: give keypoints and next-frame matches
             named = labels is not None and len(np.unique(labels[labels >= 0])) >= 2

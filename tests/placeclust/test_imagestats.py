@@ -117,6 +117,22 @@ def test_the_command_prints_a_table_of_a_folder_and_a_tour(tmp_path, tour, capsy
     assert len(rows) == 2 and all(" 12 | " in r and "– / –" not in r for r in rows)
 
 
+def test_stride_keeps_every_kth_frame_of_a_tour_and_says_so(tmp_path, tour, capsys):
+    """A tour steps 0.1 s; ``--stride`` spaces its frames as a data set's may be. The folder
+    keeps its own frames."""
+    frames, truth = tour
+    write_image_folder(tmp_path / "images", frames, labels=[f"room{p}" for p in truth])
+    np.savez(tmp_path / "tour.npz", frames=frames, room=truth)
+    assert main(["--images", str(tmp_path / "images"), "--tour", str(tmp_path / "tour.npz"),
+                 "--features", "orb", "--pairs", "5", "--stride", "3"]) == 0
+    rows = [r for r in capsys.readouterr().out.splitlines() if r.startswith(f"| {tmp_path}")]
+    folder, strided = rows
+    assert " | 12 | " in folder and "(every 3) | 4 | " in strided
+    with pytest.raises(SystemExit) as exit_:
+        main(["--tour", str(tmp_path / "tour.npz"), "--stride", "0"])
+    assert exit_.value.code == 2 and "--stride must be at least 1" in capsys.readouterr().err
+
+
 def test_bad_input_gives_one_error_line_status_2_and_writes_nothing(tmp_path, capsys):
     docs = tmp_path / "bench.md"
     np.savez(tmp_path / "empty.npz", other=np.zeros(3))
