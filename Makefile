@@ -185,8 +185,8 @@ leaderboard: $(VENV)/.installed
 	$(VENV)/bin/placeclust score $(V2_TRACKS) --pair panorama panorama-orb
 
 # errands to pictures of spots: every built-in, the ceiling and the calibration oracles on
-# every track (not yet measured at full size; its val pilot, six tracks of 6 buildings, took
-# 43 minutes on 2 cores)
+# every track (5.8 core-hours measured, about 3 hours on 2 cores; PANORAMA is 43% of it:
+# docs/benchmarks.md, "placenav-v3 at full size")
 V3_TRACKS := $(foreach t,continued changed-night changed-cloudy changed-moved carried corridor \
 	corridor-carried long,runs/v3/$(t)/results.json)
 leaderboard-v3: $(VENV)/.installed
@@ -194,7 +194,7 @@ leaderboard-v3: $(VENV)/.installed
 		oracle-pose oracle oracle-cells:2 oracle-cells:4 oracle-door:1 oracle-revisit:0.5 \
 		panorama panorama-orb nested none random
 	$(VENV)/bin/placeclust score $(V3_TRACKS) --ceiling oracle-pose --pair panorama \
-		panorama-orb --pair oracle oracle-cells:2
+		panorama-orb --pair oracle oracle-cells:2 --pair nested none
 
 # the first suite, one set of errands on 60 buildings (55 minutes to 2 hours on 2 cores,
 # by the day)
