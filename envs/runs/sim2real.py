@@ -235,9 +235,9 @@ def run_matched(dataset: str, scenes: list[int], m: Matched, out: Path, workers:
     Raises:
         ValueError: ``m.question`` is not the data set's kind, or no scene is given.
     """
-    if question_of(dataset) != m.question:
-        raise ValueError(f"{dataset} asks the {question_of(dataset)} question, not "
-                         f"{m.question}'s")
+    asks = question_of(dataset)  # reads the folder: once
+    if asks != m.question:
+        raise ValueError(f"{dataset} asks the {asks} question, not {m.question}'s")
     if not scenes:
         raise ValueError("no simulated buildings: give --scenes or --split")
     real = real_side(dataset, m, out)
