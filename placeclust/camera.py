@@ -5,7 +5,8 @@ a recognizer that wins on 512×128 colour panoramas may lose on 160×120 grey fo
 :func:`camera_of` reads what a folder's images say of their camera, and its ``camera.json``
 for what they cannot say::
 
-    DIR/camera.json    optional: {"horizontal_fov": 60.0, "colour": false, "note": "..."}
+    DIR/camera.json    optional: {"horizontal_fov": 60.0, "colour": false, "note": "...",
+                                  "sensor": {"blur": 1.5, "read_noise": 2}}
 
 - **size**: read from the first image (every image of a data set is taken to share it; the
   recognizers do not need that, a matched simulator does);
@@ -13,10 +14,16 @@ for what they cannot say::
   three channels differ by at most :data:`GREY_TOLERANCE` grey levels at the 99th percentile
   (JPEG's chroma rounding leaves a few levels in a grey picture);
 - **horizontal field of view**: ``camera.json``'s ``horizontal_fov`` (degrees), else
-  :data:`DEFAULT_FOV`, and :attr:`CameraSpec.fov_source` says which.
+  :data:`DEFAULT_FOV`, and :attr:`CameraSpec.fov_source` says which;
+- **sensor effects** (:func:`sensor_of`): ``camera.json``'s ``sensor``, the effects a
+  simulator should add to its clean renders to look like this camera (blur, noise, exposure:
+  the names of ``envs.world.sensor.Sensor``, which checks them). A data set cannot measure
+  them; they are chosen on image statistics (``placeclust stats``) and written down, so every
+  later comparison renders through the same camera.
 
 For a VPR-Bench folder the images of ``ref/`` are read and ``camera.json`` is looked for at
-its top.
+its top. A data set you cannot write to is described by a camera file elsewhere
+(``described_by``; the command lines' ``--camera-file``), read instead of its own.
 
 Examples:
     >>> import tempfile
@@ -64,8 +71,8 @@ class CameraSpec:
         width, height: image size in pixels.
         colour: False for a grey (monochrome) camera.
         fov: horizontal field of view in degrees.
-        fov_source: ``"camera.json"`` where the data set states it, ``"default"`` where it
-            is :data:`DEFAULT_FOV`.
+        fov_source: ``"camera.json"`` where a camera file states it (the data set's or one
+            named for it), ``"default"`` where it is :data:`DEFAULT_FOV`.
     """
 
     width: int
@@ -108,9 +115,12 @@ def is_grey(frame: np.ndarray, tolerance: int = GREY_TOLERANCE) -> bool:
     return float(np.percentile(spread, 99)) <= tolerance
 
 
-def _metadata(folder: Path) -> dict[str, Any]:
-    """``camera.json`` of ``folder`` (empty without one), its values checked."""
-    path = folder / CAMERA_FILE
+def _metadata(folder: Path, described_by: str | Path | None = None) -> dict[str, Any]:
+    """The camera file (``described_by``, else ``folder``'s ``camera.json``; empty without
+    one), its values checked."""
+    path = folder / CAMERA_FILE if described_by is None else Path(described_by)
+    if described_by is not None and not path.is_file():
+        raise DatasetError(f"camera file {path} does not exist")
     if not path.exists():
         return {}
     try:
@@ -124,23 +134,29 @@ def _metadata(folder: Path) -> dict[str, Any]:
         raise DatasetError(f"{path}: horizontal_fov must be a number of degrees, got {fov!r}")
     if "colour" in meta and not isinstance(meta["colour"], bool):
         raise DatasetError(f"{path}: colour must be true or false, got {meta['colour']!r}")
+    sensor = meta.get("sensor", {})
+    if not isinstance(sensor, dict) or not all(
+            isinstance(v, (bool, int, float)) for v in sensor.values()):
+        raise DatasetError(f"{path}: sensor must be an object of settings to numbers or "
+                           f"true/false, e.g. {{\"blur\": 1.5}}, got {sensor!r}")
     return meta
 
 
-def camera_of(folder: str | Path) -> CameraSpec:
-    """The camera of a data set: an image folder or a VPR-Bench folder (its ``ref/``).
+def camera_of(folder: str | Path, described_by: str | Path | None = None) -> CameraSpec:
+    """The camera of a data set: an image folder or a VPR-Bench folder (its ``ref/``);
+    ``described_by``, a camera file read instead of the folder's ``camera.json``.
 
     Returns:
         Its :class:`CameraSpec`: size from the first image, colour from ``camera.json`` or the
         pixels of a few frames, field of view from ``camera.json`` or :data:`DEFAULT_FOV`.
 
     Raises:
-        DatasetError: no images, an unreadable image or ``camera.json``, or a stated field of
+        DatasetError: no images, an unreadable image or camera file, or a stated field of
             view out of range (the message names the file).
     """
     root = Path(folder)
     files = image_files(root / "ref" if is_vpr_bench(root) else root)
-    meta = _metadata(root)
+    meta = _metadata(root, described_by)
     first = read_image(files[0])
     if "colour" in meta:
         colour = bool(meta["colour"])
@@ -154,3 +170,22 @@ def camera_of(folder: str | Path) -> CameraSpec:
                           CAMERA_FILE if fov is not None else "default")
     except ValueError as err:
         raise DatasetError(f"{root}: {err}") from None
+
+
+def sensor_of(folder: str | Path, described_by: str | Path | None = None
+              ) -> dict[str, bool | int | float]:
+    """The sensor effects a data set's camera file states (its ``"sensor"`` object; empty
+    without one), as written: names and ranges are the simulator's to check.
+
+    Example:
+        >>> import json, tempfile
+        >>> from pathlib import Path
+        >>> folder = Path(tempfile.mkdtemp())
+        >>> _ = (folder / "camera.json").write_text(json.dumps({"sensor": {"blur": 1.5}}))
+        >>> sensor_of(folder)
+        {'blur': 1.5}
+
+    Raises:
+        DatasetError: the camera file is not JSON, or its ``sensor`` not an object of numbers.
+    """
+    return dict(_metadata(Path(folder), described_by).get("sensor", {}))

@@ -2,6 +2,12 @@
 data set's camera, and whether it ranks recognizers as the data does.
 
     placeclust like ../shared/data/vpr-bench-corridor --split val [--sensor grey=1 jpeg=75]
+    placeclust like ../shared/data/vpr-bench-corridor --split val \
+        --camera-file assets/cameras/vpr-bench-corridor.json
+
+The camera is the data set's (:func:`placeclust.camera.camera_of`): its image size and colour,
+and the field of view and sensor effects its ``camera.json`` states, or a camera file named by
+``--camera-file`` for a data set you cannot write to; ``--sensor`` overrides single effects.
 
 The measuring is :mod:`envs.runs.sim2real`'s (how a building is made like the data set, what
 is kept); this module parses the command and writes the report: both sides' score per
@@ -24,7 +30,7 @@ from typing import Any
 import numpy as np
 
 from placeclust.argparsing import ArgumentParser
-from placeclust.camera import camera_of
+from placeclust.camera import CAMERA_FILE, camera_of, sensor_of
 from placeclust.docs_section import write_section
 from placeclust.imagestats import stats_table
 from placeclust.metrics import nmi
@@ -161,9 +167,13 @@ def build_parser(prog: str) -> ArgumentParser:
     p.add_argument("--preset", choices=tuple(PRESETS), default="paper")
     p.add_argument("--param", action="append", metavar="NAME=VALUE",
                    help="a constructor argument of every recognizer run (repeatable)")
+    p.add_argument("--camera-file", metavar="FILE", help="a camera.json describing the data "
+                   "set's camera (field of view, colour, sensor effects), read instead of its "
+                   "own; assets/cameras/ holds those measured here")
     p.add_argument("--sensor", nargs="+", metavar="NAME=VALUE", help="the camera's effects "
                    "(envs.world.sensor: grey, exposure, shot_noise, read_noise, motion_blur, blur, "
-                   "vignetting, jpeg); a grey data set makes the camera grey")
+                   "vignetting, jpeg), each replacing the camera file's; a grey data set makes "
+                   "the camera grey")
     p.add_argument("--rooms", type=room_count, default=4)
     p.add_argument("--steps-per-room", type=int, default=100, help="frames a room a drive")
     p.add_argument("--stride", type=int, default=1, help="keep every STRIDE-th frame (a "
@@ -186,7 +196,7 @@ def matched_from_args(args: argparse.Namespace) -> tuple[str, list[int], Matched
 
     Raises:
         ValueError: a data set of neither kind, recognizers a VPR-Bench set's queries cannot
-            use, a bad --stride, --radius, --steps-per-room, --sensor or split.
+            use, a bad --stride, --radius, --steps-per-room, --sensor, camera file or split.
     """
     if args.stride < 1 or args.steps_per_room < 1:
         raise ValueError(f"--stride and --steps-per-room must be at least 1, got "
@@ -204,10 +214,12 @@ def matched_from_args(args: argparse.Namespace) -> tuple[str, list[int], Matched
     if args.split:
         check_split(args.split, scene_list)
     params = preset_params(args.preset, args.param)
-    m = Matched(camera_of(args.dataset), Sensor.parse(args.sensor), configs, question,
-                rooms=args.rooms,
-                steps_per_room=args.steps_per_room, stride=args.stride, radius=args.radius,
-                doors=args.doors, params=tuple(sorted(params.items())))
+    where = args.camera_file or str(Path(args.dataset) / CAMERA_FILE)
+    stated = Sensor.of(sensor_of(args.dataset, args.camera_file), where)
+    m = Matched(camera_of(args.dataset, args.camera_file), Sensor.parse(args.sensor, stated),
+                configs, question, rooms=args.rooms, steps_per_room=args.steps_per_room,
+                stride=args.stride, radius=args.radius, doors=args.doors,
+                params=tuple(sorted(params.items())))
     return args.dataset, scene_list, m, Path(args.out or f"runs/like-{Path(args.dataset).name}")
 
 

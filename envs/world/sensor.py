@@ -11,9 +11,11 @@ and read noise, quantization to 8 bits), then the encoder (JPEG).
 
 Every effect is off by default, and a :class:`Sensor` with none leaves a frame untouched (the
 same array, not a copy). The Gymnasium wrapper :class:`envs.tasks.camera_sensor.CameraSensor`
-puts one on any env's camera; ``placeclust tour --sensor NAME=VALUE`` and ``placeclust bench
---like DATASET`` use it. Each effect's cost against a bare render is measured in
-``docs/benchmarks.md`` ("A camera like a data set's").
+puts one on any env's camera; ``placeclust tour --sensor NAME=VALUE`` and ``placeclust like
+DATASET`` use it, the latter (and ``tour --like``) with the effects a data set's camera file
+states (:meth:`Sensor.of`; ``assets/cameras/`` holds those measured here). Each effect's
+cost against a bare render is measured in ``docs/benchmarks.md`` ("A camera like a data
+set's").
 
 Examples:
     >>> import numpy as np
@@ -29,7 +31,8 @@ from __future__ import annotations
 
 import functools
 import math
-from dataclasses import asdict, dataclass, fields
+from collections.abc import Mapping
+from dataclasses import asdict, dataclass, fields, replace
 from typing import Any
 
 import cv2
@@ -86,32 +89,55 @@ class Sensor:
             raise ValueError(f"sensor jpeg is a quality in 1-100 (0: off), got {self.jpeg!r}")
 
     @classmethod
-    def parse(cls, items: list[str] | None) -> Sensor:
-        """A sensor from ``NAME=VALUE`` strings, as ``--sensor grey=1 jpeg=75`` gives them.
+    def parse(cls, items: list[str] | None, base: Sensor | None = None) -> Sensor:
+        """A sensor from ``NAME=VALUE`` strings, as ``--sensor grey=1 jpeg=75`` gives them,
+        each replacing ``base``'s setting (default: every effect off).
 
         Raises:
             ValueError: an unknown name or a value of the wrong kind, named.
         """
-        kinds = {f.name: f.type for f in fields(cls)}
         values: dict[str, Any] = {}
         for item in items or []:
             name, sep, text = item.partition("=")
-            if not sep or name not in kinds:
+            if not sep or name not in _KINDS:
                 raise ValueError(f"sensor setting {item!r}: expected NAME=VALUE with NAME one of "
-                                 f"{', '.join(kinds)}")
+                                 f"{', '.join(_KINDS)}")
             try:
                 if name == "grey":
                     if text.lower() not in ("0", "1", "true", "false"):
                         raise ValueError
                     values[name] = text.lower() in ("1", "true")
-                elif name == "jpeg":
-                    values[name] = int(text)
                 else:
-                    values[name] = float(text)
+                    values[name] = _KINDS[name](text)
             except ValueError:
                 raise ValueError(f"sensor setting {item!r}: {text!r} is not a "
                                  f"{'true/false' if name == 'grey' else 'number'}") from None
-        return cls(**values)
+        return replace(base or cls(), **values)
+
+    @classmethod
+    def of(cls, settings: Mapping[str, Any], where: str = "sensor") -> Sensor:
+        """A sensor from a mapping of settings, as a data set's ``camera.json`` states them
+        (``{"blur": 1.5, "grey": true}``; :func:`placeclust.camera.sensor_of`).
+
+        Raises:
+            ValueError: an unknown name or a value of the wrong kind, named with ``where``.
+        """
+        for name, value in settings.items():
+            if name not in _KINDS:
+                raise ValueError(f"{where}: unknown sensor setting {name!r}; one of "
+                                 f"{', '.join(_KINDS)}")
+            kind = _KINDS[name]
+            ok = isinstance(value, bool) if kind is bool else not isinstance(value, bool) \
+                and isinstance(value, (int, float) if kind is float else int)
+            if not ok:
+                raise ValueError(f"{where}: sensor setting {name} must be "
+                                 f"{_KIND_NAMES[kind]}, got {value!r}")
+        try:
+            values: dict[str, Any] = {name: float(v) if _KINDS[name] is float else v
+                                      for name, v in settings.items()}
+            return cls(**values)
+        except ValueError as err:
+            raise ValueError(f"{where}: {err}") from None
 
     @property
     def active(self) -> bool:
@@ -159,6 +185,12 @@ class Sensor:
         if self.jpeg:
             result = _jpeg(result, self.jpeg)
         return result
+
+
+#: each setting's type, in the order the fields are declared (the order effects are listed in)
+_KINDS: dict[str, type] = {f.name: {"bool": bool, "int": int}.get(str(f.type), float)
+                           for f in fields(Sensor)}
+_KIND_NAMES = {bool: "true or false", int: "a whole number", float: "a number"}
 
 
 def _smear(image: np.ndarray, length: float) -> np.ndarray:

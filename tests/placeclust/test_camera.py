@@ -5,7 +5,7 @@ import json
 import numpy as np
 import pytest
 
-from placeclust.camera import DEFAULT_FOV, CameraSpec, camera_of, is_grey
+from placeclust.camera import DEFAULT_FOV, CameraSpec, camera_of, is_grey, sensor_of
 from placeclust.datasets import DatasetError, write_image_folder
 from placeclust.vprbench import write_vpr_bench
 
@@ -50,6 +50,8 @@ def test_a_vpr_bench_folder_is_read_from_ref(tmp_path):
 @pytest.mark.parametrize("text, message", [
     ("{", "is not JSON"), ("[1]", "JSON object"), ('{"horizontal_fov": "wide"}', "number of deg"),
     ('{"horizontal_fov": 200}', "out of"), ('{"colour": "yes"}', "true or false"),
+    ('{"sensor": [1.5]}', "sensor must be an object"), ('{"sensor": {"blur": "soft"}}',
+                                                        "sensor must be an object"),
 ])
 def test_bad_metadata_is_named(tmp_path, text, message):
     write_image_folder(tmp_path, _frames(True))
@@ -61,3 +63,17 @@ def test_bad_metadata_is_named(tmp_path, text, message):
 def test_a_camera_too_small_to_render_is_refused():
     with pytest.raises(ValueError, match="too small"):
         CameraSpec(8, 8, True, 60.0)
+
+
+def test_a_camera_file_states_sensor_effects_and_can_live_elsewhere(tmp_path):
+    write_image_folder(tmp_path / "data", _frames(False))
+    assert sensor_of(tmp_path / "data") == {}  # nothing stated: the simulator adds nothing
+    (tmp_path / "data" / "camera.json").write_text(json.dumps({"sensor": {"blur": 1.5}}))
+    assert sensor_of(tmp_path / "data") == {"blur": 1.5}
+    elsewhere = tmp_path / "corridor.json"  # for a data set one cannot write to
+    elsewhere.write_text(json.dumps({"horizontal_fov": 75, "sensor": {"jpeg": 80}}))
+    assert sensor_of(tmp_path / "data", elsewhere) == {"jpeg": 80}
+    camera = camera_of(tmp_path / "data", elsewhere)
+    assert (camera.fov, camera.fov_source) == (75.0, "camera.json")
+    with pytest.raises(DatasetError, match="camera file .*nowhere.json does not exist"):
+        camera_of(tmp_path / "data", tmp_path / "nowhere.json")

@@ -92,6 +92,7 @@ def test_a_labelled_folder_is_clustered_on_both_sides(tmp_path, two_places):
     ("vpr", ("--stride", "0"), "must be at least 1"),
     ("vpr", ("--split", "val", "--scenes", "5"), "are not in the 'val' split"),
     ("vpr", ("--sensor", "gain=2"), "NAME one of grey"),
+    ("vpr", ("--camera-file", "missing.json"), "camera file missing.json does not exist"),
 ])
 def test_bad_input_is_one_line_exit_2_and_writes_nothing(real, tmp_path, capsys, setup, extra,
                                                          message):
@@ -104,3 +105,33 @@ def test_bad_input_is_one_line_exit_2_and_writes_nothing(real, tmp_path, capsys,
     err = capsys.readouterr().err.strip()
     assert code.value.code == 2 and message in err and len(err.splitlines()) == 1
     assert not (tmp_path / "out").exists()
+
+
+def test_a_camera_file_is_the_same_camera_as_its_settings_on_the_command_line(real, tmp_path):
+    """A camera written down once (assets/cameras/) asks exactly what its flags asked: the
+    same settings, so the same kept figures are reused."""
+    from envs.commands.like import build_parser, matched_from_args
+
+    def matched(*extra):
+        args = build_parser("placeclust like").parse_args([str(real), "--scenes", "1000",
+                                                           *extra])
+        return matched_from_args(args)[2]
+
+    camera = tmp_path / "corridor.json"
+    camera.write_text(json.dumps({"sensor": {"vignetting": 0.3, "blur": 1.5}}))
+    flags = matched("--sensor", "vignetting=0.3", "blur=1.5")
+    assert matched("--camera-file", str(camera)) == flags
+    assert matched("--camera-file", str(camera)).stamp() == flags.stamp()
+    assert matched("--camera-file", str(camera), "--sensor", "blur=2").sensor.blur == 2.0
+    (real / "camera.json").write_text(camera.read_text())  # the data set's own file
+    assert matched() == flags
+
+
+def test_the_shipped_corridor_camera_reads(tmp_path):
+    from pathlib import Path
+
+    from envs.world.sensor import Sensor
+    from placeclust.camera import sensor_of
+
+    shipped = Path(__file__).parents[3] / "assets" / "cameras" / "vpr-bench-corridor.json"
+    assert Sensor.of(sensor_of(tmp_path, shipped), str(shipped)).active

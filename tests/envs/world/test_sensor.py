@@ -101,3 +101,18 @@ def test_parse_reads_the_command_line_and_names_mistakes():
         Sensor.parse(["exposure=bright"])
     with pytest.raises(ValueError, match="not a true/false"):
         Sensor.parse(["grey=maybe"])
+    base = Sensor(blur=1.5, read_noise=2.0)
+    assert Sensor.parse(["blur=3"], base) == Sensor(blur=3.0, read_noise=2.0)  # one replaced
+
+
+def test_a_camera_files_settings_are_checked_and_named():
+    assert Sensor.of({"grey": True, "jpeg": 75, "blur": 1}) == Sensor(grey=True, jpeg=75,
+                                                                      blur=1.0)
+    assert Sensor.of({}) == Sensor()
+    for settings, message in [({"gain": 2}, "unknown sensor setting 'gain'"),
+                              ({"grey": 1}, "grey must be true or false"),
+                              ({"jpeg": 7.5}, "jpeg must be a whole number"),
+                              ({"blur": True}, "blur must be a number"),
+                              ({"blur": -1}, "non-negative")]:
+        with pytest.raises(ValueError, match=f"^cam.json: .*{message}"):
+            Sensor.of(settings, "cam.json")
