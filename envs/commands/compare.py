@@ -185,17 +185,23 @@ def _suite(a: dict[str, Any], b: dict[str, Any], task: dict[str, Any]) -> str:
 
 def _labels(a: dict[str, Any], b: dict[str, Any], name_a: str, name_b: str
             ) -> tuple[str, str]:
-    """The two sides' names, with the agent, its policy or the suite size added where the
-    files differ in it: the same recognizer under two agents, or after a short and a long
-    tour."""
+    """The two sides' names, with the agent, its policy, the suite size or whether the map
+    learned during the errands added where the files differ in it: the same recognizer under
+    two agents, after a short and a long tour, or with its map fixed (``--localize-only``)."""
     for where, key in (("settings", "agent"), ("settings", "policy"), ("provenance", "size")):
         va, vb = a[where].get(key), b[where].get(key)
         if key == "policy":  # two policies of the learned agent; another agent has none
             if a["settings"].get("agent") != "ppo" or b["settings"].get("agent") != "ppo":
                 continue
             va, vb = policy_name(va), policy_name(vb)
+        if key == "size" and None in (va, vb):  # a run of no suite has no size to name
+            continue
         if va != vb:
             name_a, name_b = f"{name_a} ({va})", f"{name_b} ({vb})"
+    learns = [(d["settings"].get("task") or {}).get("errand_learn", True) for d in (a, b)]
+    if learns[0] != learns[1]:
+        name_a, name_b = (f"{n} ({'learning' if learn else 'map fixed'})"
+                          for n, learn in zip((name_a, name_b), learns, strict=True))
     return name_a, name_b
 
 

@@ -134,6 +134,21 @@ def test_one_recognizer_after_short_and_long_tours_is_compared_by_size(results, 
     assert "compared anyway (--force): size: long against quick" in docs.read_text()
 
 
+def test_one_recognizer_with_its_map_fixed_is_compared_by_whether_it_learns(results, tmp_path,
+                                                                            capsys):
+    """A suite run against a run of no suite with ``--localize-only``: the sides are named by
+    what differs in the map, not by a size one of them does not have."""
+    other = copy.deepcopy(load_results(results))
+    other["provenance"].update(suite=None, size=None)
+    other["settings"]["task"] = {"errand_learn": False}
+    path = tmp_path / "fixed.json"
+    path.write_text(json.dumps(other))
+    assert compare.main([str(results), str(path), "--a", "good", "--b", "good", "--force"]) == 0
+    out = capsys.readouterr().out
+    assert "A: good (learning)" in out and "B: good (map fixed)" in out
+    assert "(None)" not in out and "FLAG" in out
+
+
 def test_buildings_pair_by_seed_whatever_their_order_and_only_where_shared(tmp_path, capsys):
     # A on buildings 0-5 in one order, B on 2-7 in another: pairs are 2-5, building by building
     rows_a = [_row("a", s, [1, 1, 0, 0] if s % 2 else [1, 1, 1, 1], 0.9) for s in (5, 0, 3, 1,
