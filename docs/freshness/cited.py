@@ -47,4 +47,9 @@ CITED: dict[str, str] = {
     "leaderboard-placenav-v3-corridor": "design.md: corridor, where it cuts 5.6 places a room; b…",
     "score-placenav-v3-doors-nested": "README: at 100 keypoints: +0.196 [0.161, 0.232] over no…",
     "image-stats-matched-corridor": "design.md: keypoints 89.5 against 111 (−19%), next-frame…",
+    "score-placenav-v3-paper": "README: seed 000 as published (`--preset paper`, 2.4 places a",
+    "compare-v3-localize-continued": "design.md: on any (fixed − learning +0.08 to +0.10 on `con…",
+    "compare-v3-localize-changed-night": "design.md: night 35 of 60 on their first step, against…",
+    "compare-v3-localize-changed-cloudy": "design.md: on any (fixed − learning +0.08 to +0.10 on…",
+    "compare-v3-localize-changed-moved": "design.md: furniture moved, every interval holding 0)…",
 }
