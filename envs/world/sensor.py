@@ -12,8 +12,8 @@ and read noise, quantization to 8 bits), then the encoder (JPEG).
 Every effect is off by default, and a :class:`Sensor` with none leaves a frame untouched (the
 same array, not a copy). The Gymnasium wrapper :class:`envs.tasks.camera_sensor.CameraSensor`
 puts one on any env's camera; ``placeclust tour --sensor NAME=VALUE`` and ``placeclust like
-DATASET`` use it, the latter (and ``tour --like``) with the effects a data set's camera file
-states (:meth:`Sensor.of`; ``assets/cameras/`` holds those measured here). Each effect's
+DATASET`` use it, the latter with the effects a data set's camera file states
+(:meth:`Sensor.of`; ``assets/cameras/`` holds those measured here). Each effect's
 cost against a bare render is measured in ``docs/benchmarks.md`` ("A camera like a data
 set's").
 
