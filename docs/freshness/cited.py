@@ -39,7 +39,7 @@ CITED: dict[str, str] = {
     "score-placenav-v2": "README: **Errands in buildings never seen** (`make leaderboard`: `pl",
     "leaderboard-placenav-v2-continued": "design.md: - `continued`: by 0.083 [0.017, 0.267], with…",
     "leaderboard-placenav-v2-corridor": "design.md: `PANORAMA_ORB` cuts 5.6 places a room (NMI 0.…",
-    "score-placenav-v2-paper": "README: `continued` and every changed condition (+0.05 to +0.15)…",
+    "score-placenav-v2-paper": "README: Seed 000's values beat `PANORAMA` on `continued` and e…",
     "leaderboard-val-continued-spot": "design.md: *What the `val` pilot says* (`docs/benchmarks",
     "leaderboard-val-carried-spot": "design.md: *What the `val` pilot says* (`docs/benchmarks",
     "score-pilot-v3-val": "design.md: *What the `val` pilot says* (`docs/benchmarks.md`, '`pla",
@@ -52,4 +52,6 @@ CITED: dict[str, str] = {
     "compare-v3-localize-changed-night": "design.md: night 35 of 60 on their first step, against…",
     "compare-v3-localize-changed-cloudy": "design.md: on any (fixed − learning +0.08 to +0.10 on…",
     "compare-v3-localize-changed-moved": "design.md: furniture moved, every interval holding 0)…",
+    "score-v3-errands15": "design.md: more), and the 12 `test` buildings then resolved six of…",
+    "score-placenav-v3-door": "design.md: can see (true rooms − `oracle-door:0.25` −0.004 [−0.0…",
 }

@@ -2,14 +2,16 @@
 its interval.
 
     placeclust compare runs/a/results.json runs/b/results.json [--a NAME] [--b NAME] [--force] \\
-        [--docs docs/benchmarks.md [--section NAME]]
+        [--plan ERRANDS ... [--plan-buildings N]] [--docs docs/benchmarks.md [--section NAME]]
 
 Each file is a results file (:mod:`envs.runs.results`: ``placeclust leaderboard`` writes
 ``OUT/results.json``, ``placeclust errands --json FILE``); both may be one file with ``--a`` and
 ``--b`` naming two of its recognizers. For each metric the table gives both means, the paired
 difference A − B with its 95% interval from a bootstrap over the shared buildings, and the
 probability of improvement P(A > B) (:mod:`placeclust.stats`). A difference whose interval
-holds 0 is not a difference the sample can decide, and the verdict line says so.
+holds 0 is not a difference the sample can decide, and the verdict line says so; ``--plan``
+then reads the sample as a pilot (:mod:`placeclust.sizing`): how many buildings, at each count
+of errands a building, would decide the success difference if it is what the pilot shows.
 
 Results are comparable only from the same buildings, errands and tours, rendered and simulated
 alike: files from different suites, settings or buildings, or with different render or physics
@@ -34,6 +36,7 @@ from typing import Any
 
 from placeclust.argparsing import ArgumentParser
 from placeclust.docs_section import write_section
+from placeclust.sizing import POWER, plan
 from placeclust.stats import (
     interval,
     paired_difference,
@@ -132,6 +135,11 @@ def main(argv: list[str] | None = None, prog: str = "placeclust compare") -> int
                    "compare-<A>-<B> (docs/benchmarks.md)")
     p.add_argument("--section", help="the section's name instead of compare-<A>-<B>, e.g. "
                    "for the same pair on two sizes of a suite")
+    p.add_argument("--plan", nargs="+", type=_positive, metavar="ERRANDS", help="also size "
+                   "the success difference from this sample as a pilot (placeclust.sizing): "
+                   "the buildings that decide it at each count of errands a building")
+    p.add_argument("--plan-buildings", type=_positive, metavar="N", help="with --plan, the "
+                   "half-width and chance of deciding at N buildings (default: this sample's)")
     argv = sys.argv[1:] if argv is None else list(argv)
     args = p.parse_args(argv)
     try:
@@ -161,12 +169,47 @@ def main(argv: list[str] | None = None, prog: str = "placeclust compare") -> int
     body = (f"Paired on {len(rows_a)} buildings (scene seeds {span}), {_suite(a, b, task)}; "
             f"errand figures errand-weighted.{flags}\n\n{text}\n\n"
             f"{verdict(figures, name_a, name_b, len(rows_a))}")
+    if args.plan:
+        body += "\n\n" + sizing(rows_a, rows_b, args.plan,
+                                 args.plan_buildings or len(rows_a))
     print(body)
     if args.docs:
         pair = "-".join(slug(n) for n in (name_a, name_b))
         write_section(args.docs, args.section or f"compare-{pair}", body,
                       shlex.join([*prog.split(), *argv]))
     return 0
+
+
+def _positive(text: str) -> int:
+    try:
+        value = int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"not a count: {text!r}") from None
+    if value < 1:
+        raise argparse.ArgumentTypeError(f"must be a positive count, got {value}")
+    return value
+
+
+def sizing(rows_a: list[dict[str, Any]], rows_b: list[dict[str, Any]], errands: list[int],
+           buildings: int) -> str:
+    """One paragraph sizing the success difference from these rows as a pilot: the buildings
+    that exclude 0 with :data:`~placeclust.sizing.POWER` chance at each count of ``errands``
+    a building, and at ``buildings`` buildings the half-width and that chance."""
+    try:
+        p = plan(groups(rows_a, "success_rate"), groups(rows_b, "success_rate"))
+    except ValueError as e:
+        return f"Sizing: not possible from this sample ({e})."
+    needs = [p.buildings_for(m) for m in errands]
+    counts = ", ".join(f"{'no count' if n is None else n} at {m}"
+                       for n, m in zip(needs, errands))
+    widths = ", ".join(f"{p.half_width(buildings, m):.3f}" for m in errands)
+    chances = ", ".join(f"{p.power(buildings, m):.2f}" for m in errands)
+    return (f"Sizing the success difference from this sample (`placeclust.sizing`; spread "
+            f"between buildings {p.between ** 0.5:.3f}, of one errand a side "
+            f"{p.within ** 0.5:.3f}): to exclude 0 with chance {POWER:g} if it is "
+            f"{p.difference:+.3f}, buildings needed at {', '.join(map(str, errands))} errands a "
+            f"building: {counts}. At {buildings} buildings the half-width would be {widths} and "
+            f"the chance of excluding 0 {chances}.")
 
 
 def _suite(a: dict[str, Any], b: dict[str, Any], task: dict[str, Any]) -> str:

@@ -202,3 +202,32 @@ def test_a_file_without_a_physics_fingerprint_is_refused_and_versions_are_noted(
     out = capsys.readouterr().out
     assert "note: mujoco 4.0.0 against 3.17.0" in out
     assert "note: placeclust 0.13.0 against 0.14.0" in out
+
+
+def test_plan_sizes_the_success_difference_from_the_sample(results, capsys):
+    doc = load_results(results)
+    for row in doc["buildings"]:  # buildings now disagree on how much better good is
+        if row["recognizer"] == "poor" and row["scene_seed"] % 2:
+            for e in row["errands"]:
+                e["success"] = True
+    results.write_text(json.dumps(doc))
+    argv = [str(results), str(results), "--a", "good", "--b", "poor", "--plan", "4", "40",
+            "--plan-buildings", "12"]
+    assert compare.main(argv) == 0
+    out = capsys.readouterr().out
+    # half the buildings differ by 0 and half by 0.75 (variance 0.156 between them, 0.031
+    # from 4 errands): ten times the errands saves 2 of 11 buildings, by hand from the formula
+    assert "if it is +0.375, buildings needed at 4, 40 errands a building: 11 at 4, 9 at 40" in out
+    assert "At 12 buildings the half-width would be" in out
+    assert compare.main([str(results), str(results), "--a", "good", "--b", "poor"]) == 0
+    assert "Sizing" not in capsys.readouterr().out
+
+
+@pytest.mark.parametrize(("value", "message"), [("0", "must be a positive count, got 0"),
+                                                ("abc", "not a count: 'abc'")])
+def test_plan_needs_positive_counts(results, capsys, value, message):
+    with pytest.raises(SystemExit) as stop:
+        compare.main([str(results), str(results), "--a", "good", "--b", "poor", "--plan", value])
+    assert stop.value.code == 2
+    err = capsys.readouterr().err
+    assert f"argument --plan: {message}" in err and len(err.strip().splitlines()) == 1
