@@ -41,7 +41,7 @@ from dataclasses import dataclass
 import numpy as np
 from scipy import stats
 
-from placeclust.stats import CONFIDENCE, Groups
+from placeclust.stats import CONFIDENCE, Groups, _paired
 
 #: the chance of excluding 0 a sample is sized for, when the difference is the pilot's
 POWER = 0.8
@@ -107,14 +107,11 @@ def plan(a: Groups, b: Groups) -> Plan:
     outcomes (0/1 successes, or SPLs) of the two recognizers.
 
     Raises:
-        ValueError: different numbers of buildings, fewer than 2, or a building with fewer
-            than 2 errands on a side (its errands' spread is unknown).
+        ValueError: different numbers of buildings, fewer than 2, a building with values that
+            are not finite, or with fewer than 2 errands on a side (its errands' spread is
+            unknown).
     """
-    xa = [np.asarray(x, float).ravel() for x in a]
-    xb = [np.asarray(x, float).ravel() for x in b]
-    if len(xa) != len(xb):
-        raise ValueError(f"a paired pilot needs the same buildings: a has {len(xa)}, b has "
-                         f"{len(xb)}")
+    xa, xb = _paired(a, b)
     if len(xa) < 2:
         raise ValueError(f"a pilot needs at least 2 buildings, got {len(xa)}")
     if min(x.size for x in xa + xb) < 2:

@@ -59,6 +59,7 @@ def test_no_sample_decides_a_difference_of_zero():
     ([[1, 0], [1, 1]], [[1, 0]], "same buildings"),
     ([[1, 0]], [[0, 1]], "at least 2 buildings"),
     ([[1], [1, 0]], [[0, 1], [1, 0]], "at least 2 errands"),
+    ([[1, float("nan")], [1, 0]], [[0, 1], [1, 0]], "not finite"),
 ])
 def test_bad_pilots_are_refused_with_what_is_wrong(a, b, message):
     with pytest.raises(ValueError, match=message):
