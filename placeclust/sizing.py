@@ -122,6 +122,6 @@ def plan(a: Groups, b: Groups) -> Plan:
     own = np.array([x.var(ddof=1) / x.size + y.var(ddof=1) / y.size for x, y in zip(xa, xb)])
     within = float(np.mean(own * counts))
     between = max(0.0, float(means.var(ddof=1) - own.mean()))
-    sums = (sum(x.sum() for x in xa) / sum(x.size for x in xa)
-            - sum(y.sum() for y in xb) / sum(y.size for y in xb))
-    return Plan(float(sums), between, within, len(xa), float(counts.mean()))
+    # errand-weighted on each side, as placeclust.stats.paired_difference's point
+    difference = float(np.concatenate(xa).mean() - np.concatenate(xb).mean())
+    return Plan(difference, between, within, len(xa), float(counts.mean()))
