@@ -211,7 +211,7 @@ def score_queries(ref_places: np.ndarray, query_places: np.ndarray,
     right = [set(ref_places[ground_truth[q]].tolist()) for q in keep]
     out = {"top1": float(np.mean([int(query_places[q]) in r for q, r in zip(keep, right)])),
            "unknown_rate": float(np.mean([query_places[q] < 0 for q in keep])),
-           "chance": float(np.mean([len(r - {-1}) / max(1, len(places)) for r in right])),
+           "chance": float(np.mean(query_chances(ref_places, ground_truth))),
            "n_places": int(len(places)), "n_queries": len(keep),
            "refs_per_place": float(np.sum(ref_places >= 0) / max(1, len(places)))}
     if ranked is not None:
@@ -219,3 +219,38 @@ def score_queries(ref_places: np.ndarray, query_places: np.ndarray,
             out[f"recall@{n}"] = float(np.mean([bool(set(list(ranked[q])[:n]) & r)
                                                 for q, r in zip(keep, right)]))
     return out
+
+
+def query_chances(ref_places: np.ndarray, ground_truth: Sequence[np.ndarray]) -> np.ndarray:
+    """Per query with ground truth, the top-1 a uniformly drawn place of the map would score:
+    the share of the map's places that hold one of its references (1 on a map of one place).
+
+    Examples:
+        >>> import numpy as np
+        >>> from placeclust.vprbench import query_chances
+        >>> query_chances(np.array([0, 0, 1, 2]), [np.array([0, 1]), np.array([]), [3]])
+        array([0.33333333, 0.33333333])
+    """
+    ref_places = np.asarray(ref_places, np.int64)
+    n_places = max(1, len(np.unique(ref_places[ref_places >= 0])))
+    return np.array([len(set(ref_places[np.asarray(refs, np.int64)].tolist()) - {-1})
+                     / n_places for refs in ground_truth if len(refs)], float)
+
+
+def above_chance(hits: Sequence[float], chances: Sequence[float]) -> float:
+    """Top-1 corrected for chance, in Cohen's kappa's form: ``(top1 - c) / (1 - c)`` with
+    ``top1`` the mean hit and ``c`` the mean of :func:`query_chances`. 1 is every query right,
+    0 what a map that guesses among its places scores; a map of one place (``c = 1``) scores 0,
+    since it says nothing of where a query is, though its raw top-1 is 1. Maps that cut a
+    route into few places and many score on one scale, so ranking by it does not reward the
+    coarse one. NaN without queries.
+
+    Examples:
+        >>> from placeclust.vprbench import above_chance
+        >>> above_chance([1, 1, 0, 1], [0.5, 0.5, 0.5, 0.5]), above_chance([1, 1], [1, 1])
+        (0.5, 0.0)
+    """
+    if not len(hits):
+        return float("nan")
+    top1, c = float(np.mean(hits)), float(np.mean(chances))
+    return 0.0 if c >= 1 else (top1 - c) / (1 - c)

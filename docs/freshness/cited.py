@@ -17,8 +17,8 @@ CITED: dict[str, str] = {
     "matched-rooms": "design.md: method is compared with the others at matched numbers of pla",
     "seed001-test": "README: **Seed 001 on its paper's camera** (`make seed001`, 4 `test`",
     "corridor": "README: the paper's defaults 0.52, KAZE 0.70 (NetVLAD's image top-1 0.68)",
-    "like-test": "README: corridor does, Spearman 0.89 [0.82, 0.96]; a camera matched on im",
-    "like-test-matched": "README: brings keypoints within 25% of the corridor's but not the r",
+    "like-test": "README: by top-1 above chance as the corridor does, Spearman 0.82 [0.78, 0…",
+    "like-test-matched": "README: matched on image statistics (`assets/cameras/`) ranks worse…",
     "image-stats": "design.md: them (`placeclust stats`, 'How alike the places look': next",
     "image-stats-100": "design.md: matches across rooms with doors fall to a 90th percentile of",
     "seed001-test-doors": "design.md: location it leaves about as often as frames within a room ma",
@@ -53,5 +53,6 @@ CITED: dict[str, str] = {
     "compare-v3-localize-changed-cloudy": "design.md: on any (fixed − learning +0.08 to +0.10 on…",
     "compare-v3-localize-changed-moved": "design.md: furniture moved, every interval holding 0)…",
     "score-v3-errands15": "design.md: more), and the 12 `test` buildings then resolved six of…",
+    "image-stats-matched-rtabmap-train": "design.md: its own is 2.9 pixels at one frame a second…",
     "score-placenav-v3-door": "design.md: can see (true rooms − `oracle-door:0.25` −0.004 [−0.0…",
 }

@@ -11,7 +11,8 @@ and the field of view and sensor effects its ``camera.json`` states, or a camera
 
 The measuring is :mod:`envs.runs.sim2real`'s (how a building is made like the data set, what
 is kept); this module parses the command and writes the report: both sides' score per
-configuration (VPR-Bench's top-1; for a labelled image folder, NMI of its clustering),
+configuration (VPR-Bench's top-1 corrected for chance, with the raw top-1 and its chance beside
+it and ranked too; for a labelled image folder, NMI of its clustering),
 :func:`placeclust.transfer.rank_transfer`'s rank correlation (buildings
 resampled on the simulated side, blocks of queries on the real side) and pairwise agreement,
 and the image statistics side by side.
@@ -35,8 +36,9 @@ from placeclust.docs_section import write_section
 from placeclust.imagestats import stats_table
 from placeclust.metrics import nmi
 from placeclust.runner import ALGORITHMS, preset_params
-from placeclust.stats import interval
+from placeclust.stats import Estimate, interval
 from placeclust.transfer import BLOCK, RealScore, Transfer, rank_transfer
+from placeclust.vprbench import above_chance
 
 from ..runs.sim2real import (
     ALGOS,
@@ -53,11 +55,19 @@ from ..world.splits import SPLITS, check_split
 from ..world.splits import scenes as split_scenes
 
 
-def real_score(real: dict[str, Any], names: list[str], question: str) -> RealScore:
+def real_score(real: dict[str, Any], names: list[str], question: str, raw: bool = False
+               ) -> RealScore:
     """The real side as :func:`placeclust.transfer.rank_transfer` resamples it: each query's
-    hit (VPR-Bench), or each frame's place and label, NMI recomputed on the frames drawn."""
+    hit and chance, top-1 above chance recomputed on the queries drawn (``raw``: top-1), or
+    each frame's place and label, NMI recomputed on the frames drawn."""
     if question == "vpr-bench":
-        return RealScore.of_means({n: real["configs"][n]["hits"] for n in names})
+        hits = RealScore.of_means({n: real["configs"][n]["hits"] for n in names})
+        if raw:
+            return hits
+        arrays = {n: (np.asarray(real["configs"][n]["hits"], float),
+                      np.asarray(real["configs"][n]["chances"], float)) for n in names}
+        return RealScore(hits.methods, hits.n_units,
+                         lambda name, idx: above_chance(*(a[idx] for a in arrays[name])))
     labels = np.asarray(real["labels"])
     places = {n: np.asarray(real["configs"][n]["places"]) for n in names}
 
@@ -69,12 +79,19 @@ def real_score(real: dict[str, Any], names: list[str], question: str) -> RealSco
 
 
 def transfer_of(real: dict[str, Any], sims: list[dict[str, Any]], m: Matched,
-                algo: str | None = None) -> Transfer:
+                algo: str | None = None, raw: bool = False) -> Transfer:
     """The rank comparison over the configurations that ran on both sides (``algo``'s alone:
-    whether the simulator picks the features for one recognizer as the data does)."""
+    whether the simulator picks the features for one recognizer as the data does); ``raw``
+    ranks a VPR-Bench question by top-1 as VPR-Bench scores it, not corrected for chance."""
     names = [config_name(a, f) for a, f in m.configs if algo in (None, a)]
-    return rank_transfer({n: [s["configs"][n]["score"] for s in sims] for n in names},
-                         real_score(real, names, m.question))
+    key = "top1" if raw else "score"
+    return rank_transfer({n: [s["configs"][n][key] for s in sims] for n in names},
+                         real_score(real, names, m.question, raw))
+
+
+def _agreement(t: Transfer) -> str:
+    return (f"Spearman {t.rho.mean:.2f} [{t.rho.low:.2f}, {t.rho.high:.2f}], pairs ordered "
+            f"alike {t.agreement.mean:.2f} [{t.agreement.low:.2f}, {t.agreement.high:.2f}]")
 
 
 def _within(real: dict[str, Any], sims: list[dict[str, Any]], m: Matched) -> list[str]:
@@ -84,11 +101,8 @@ def _within(real: dict[str, Any], sims: list[dict[str, Any]], m: Matched) -> lis
     for algo in dict.fromkeys(a for a, _ in m.configs):
         n = sum(a == algo for a, _ in m.configs)
         if n >= 3:
-            t = transfer_of(real, sims, m, algo)
-            lines.append(f"- `{algo}` over its {n} features: Spearman {t.rho.mean:.2f} "
-                         f"[{t.rho.low:.2f}, {t.rho.high:.2f}], pairs ordered alike "
-                         f"{t.agreement.mean:.2f} [{t.agreement.low:.2f}, "
-                         f"{t.agreement.high:.2f}]")
+            lines.append(f"- `{algo}` over its {n} features: "
+                         f"{_agreement(transfer_of(real, sims, m, algo))}")
     return lines
 
 
@@ -99,7 +113,32 @@ def _question(m: Matched) -> str:
     return (f"the reference and query drives the two halves of one tour under one light; a "
             f"query's references lie within {m.radius:g} m in its room, heading within half "
             "the field of view; top-1 at the level of places (VPR-Bench's, "
-            "`placeclust.vprbench`)")
+            "`placeclust.vprbench`) above chance, (top-1 − chance) / (1 − chance), chance "
+            "being what a uniformly drawn place of the map scores (a map of one place scores "
+            "0, not 1)")
+
+
+def _row(name: str, sims: list[dict[str, Any]], sim_mean: float, on_real: Estimate,
+         rc: dict[str, Any]) -> str:
+    """One configuration's row: both sides' score with intervals; for a VPR-Bench question
+    the raw top-1 and chance beside them."""
+    est = interval([[s["configs"][name]["score"]] for s in sims])
+    cells = [name, f"{sim_mean:.3f} [{est.low:.3f}, {est.high:.3f}]",
+             f"{on_real.mean:.3f} [{on_real.low:.3f}, {on_real.high:.3f}]"]
+    if "top1" in rc:
+        sim_top1 = np.mean([s["configs"][name]["top1"] for s in sims])
+        sim_chance = np.mean([s["configs"][name]["chance"] for s in sims])
+        cells += [f"{sim_top1:.3f} ({sim_chance:.3f})", f"{rc['top1']:.3f} ({rc['chance']:.3f})"]
+    return "| " + " | ".join([*cells, str(rc["n_places"])]) + " |"
+
+
+def _header(metric: str, raw: bool) -> list[str]:
+    """The table's head: with ``raw``, columns of top-1 and its chance on each side."""
+    cells = ["configuration", f"simulated {metric} [95%]", f"real {metric} [95%]"]
+    if raw:
+        cells += ["simulated top-1 (chance)", "real top-1 (chance)"]
+    cells.append("places (real)")
+    return ["| " + " | ".join(cells) + " |", "|" + "---|" * len(cells)]
 
 
 def report(dataset: str, real: dict[str, Any], sims: list[dict[str, Any]], m: Matched
@@ -116,20 +155,17 @@ def report(dataset: str, real: dict[str, Any], sims: list[dict[str, Any]], m: Ma
              f"({np.mean([s['queries'] for s in sims]):.0f} {units} scored a building). "
              f"Simulated {metric}: the mean over buildings with its 95% bootstrap interval over "
              f"buildings; real: with a moving-block bootstrap of {BLOCK} {units}.", "",
-             f"| configuration | simulated {metric} [95%] | real {metric} [95%] | places "
-             "(real) |", "|---|---|---|---|"]
-    for k, (name, sim_mean) in enumerate(zip(names, t.sim_means)):
-        est, on_real = interval([[s["configs"][name]["score"]] for s in sims]), t.real[k]
-        rc = real["configs"][name]
-        chance = f" (chance {rc['chance']:.3f})" if "chance" in rc else ""
-        lines.append(f"| {name} | {sim_mean:.3f} [{est.low:.3f}, {est.high:.3f}] | "
-                     f"{on_real.mean:.3f} [{on_real.low:.3f}, {on_real.high:.3f}]{chance} | "
-                     f"{rc['n_places']} |")
+             *_header(metric, "top1" in real["configs"][names[0]])]
+    lines += [_row(name, sims, sim_mean, t.real[k], real["configs"][name])
+              for k, (name, sim_mean) in enumerate(zip(names, t.sim_means))]
     lines += ["", f"Spearman's rank correlation over {len(names)} configurations: "
               f"{t.rho.mean:.2f} [{t.rho.low:.2f}, {t.rho.high:.2f}]; pairs ordered alike: "
               f"{t.agreement.mean:.2f} [{t.agreement.low:.2f}, {t.agreement.high:.2f}] "
               f"({t.concordant} alike, {t.discordant} opposite, {t.ties} tied on a side, of "
               f"{len(t.pairs)}).", ""]
+    if m.question == "vpr-bench":
+        lines += [f"Ranked by raw top-1 (VPR-Bench's score, not corrected for chance): "
+                  f"{_agreement(transfer_of(real, sims, m, raw=True))}.", ""]
     within = _within(real, sims, m)
     if within:
         lines += ["Within one recognizer (the features ranked for it):", "", *within, ""]

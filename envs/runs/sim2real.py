@@ -11,10 +11,14 @@ light; and VPR-Bench's ground truth from positions, each query's references bein
 ``radius`` metres in its room that look the same way (heading within half the field of view:
 a forward camera turned round sees another place). Every recognizer × feature configuration
 then maps ``ref/`` and localizes ``query/`` on both sides through the same code
-(:func:`placeclust.realdata.vpr_bench`). For a labelled image folder the question is the
-folder's: one drive (the tour's first half) clustered by every configuration and scored by NMI
-against its rooms, as the folder is against its labels
-(:func:`placeclust.realdata.cluster_folder`).
+(:func:`placeclust.realdata.vpr_bench`), scored by top-1 above chance
+(:func:`placeclust.vprbench.above_chance`): top-1 at the level of places is right by chance
+as often as a map has few places (a map of one place is always right), so the raw figure
+would rank a coarse map above a fine one that knows more.
+
+For a labelled image folder the question is the folder's: one drive (the tour's first half)
+clustered by every configuration and scored by NMI against its rooms, as the folder is against
+its labels (:func:`placeclust.realdata.cluster_folder`).
 
 Every building's figures are kept in ``OUT/sim/scene_S.json`` and the data set's in
 ``OUT/real.json``, stamped with the code (this module's and the simulator's) and the
@@ -40,7 +44,7 @@ from placeclust.imagestats import image_stats
 from placeclust.loops import LoopClosures
 from placeclust.realdata import cluster_folder, dataset_kind, fingerprint, open_queries, vpr_bench
 from placeclust.strict_json import dumps
-from placeclust.vprbench import VPRBench, nearby_truth
+from placeclust.vprbench import VPRBench, above_chance, nearby_truth, query_chances
 
 from ..tasks.tour import Tour, record_tour
 from ..world.sensor import Sensor
@@ -50,9 +54,11 @@ from .suite import sources_fingerprint
 #: the recognizers that can take queries on a fixed map (``localize_one``): VPR-Bench's
 #: question needs them; a labelled folder's (clustering) takes any of ``ALGORITHMS``
 ALGOS = ("online", "nested")
-#: the two questions: a VPR-Bench data set's (map ``ref/``, localize ``query/``, top-1) and a
-#: labelled image folder's (cluster it, NMI against its labels)
-QUESTIONS = {"vpr-bench": "top-1", "images": "NMI"}
+#: the two questions and the score each ranks by: a VPR-Bench data set's (map ``ref/``,
+#: localize ``query/``; top-1 at the level of places corrected for chance, since a map of few
+#: places is right by chance more often) and a labelled image folder's (cluster it, NMI
+#: against its labels)
+QUESTIONS = {"vpr-bench": "top-1 above chance", "images": "NMI"}
 #: every feature type both recognizers run with
 FEATURES = ("sift", "kaze", "surf", "orb", "akaze")
 
@@ -149,14 +155,18 @@ def query_hits(run_: Any, data: VPRBench | LoopClosures) -> list[float]:
 
 
 def score_configs(data: VPRBench | LoopClosures, m: Matched) -> dict[str, dict[str, Any]]:
-    """Every configuration on one VPR-Bench question: its per-query hits and top-1."""
+    """Every configuration on one VPR-Bench question: per query its hit and its chance
+    (:func:`placeclust.vprbench.query_chances`); the ``score`` ranked is top-1 above chance
+    (:func:`placeclust.vprbench.above_chance`), with the raw ``top1`` and ``chance`` kept."""
     out = {}
     for algo, features in m.configs:
         run_ = vpr_bench(algo, data, features, **dict(m.params))
         hits = query_hits(run_, data)
+        chances = query_chances(run_.result.assignments, data.ground_truth).tolist()
         out[config_name(algo, features)] = {
-            "hits": hits, "score": float(np.mean(hits)) if hits else math.nan,
-            "chance": run_.metrics.get("query_chance", math.nan),
+            "hits": hits, "chances": chances, "score": above_chance(hits, chances),
+            "top1": float(np.mean(hits)) if hits else math.nan,
+            "chance": float(np.mean(chances)) if chances else math.nan,
             "n_places": run_.metrics.get("n_places", 0)}
     return out
 

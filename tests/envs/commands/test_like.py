@@ -66,7 +66,9 @@ def test_a_loop_closure_drive_asks_the_vpr_bench_question(tmp_path, two_places):
     assert done.value.code == 0
     real = json.loads((tmp_path / "out" / "real.json").read_text())
     assert len(real["configs"]["online (orb)"]["hits"]) == 5
-    assert "| simulated top-1 [95%] |" in (tmp_path / "out" / "results.md").read_text()
+    text = (tmp_path / "out" / "results.md").read_text()
+    assert "| simulated top-1 above chance [95%] | real top-1 above chance [95%] |" in text
+    assert "Ranked by raw top-1" in text
 
 
 def test_a_labelled_folder_is_clustered_on_both_sides(tmp_path, two_places):
@@ -82,6 +84,33 @@ def test_a_labelled_folder_is_clustered_on_both_sides(tmp_path, two_places):
     assert "| stream (orb) |" in text and "128×96 colour" in text
     real = json.loads((out / "real.json").read_text())
     assert len(real["configs"]["online (orb)"]["places"]) == len(truth) == len(real["labels"])
+
+
+def test_a_map_of_one_place_ranks_last_above_chance_though_its_raw_top1_is_best():
+    """One place for the whole drive is right on every query by chance alone: ranked above
+    chance it is last on both sides, and the raw ranking, which puts it first, is kept beside.
+    Fault it catches: ranking by ``top1`` (raw) instead of ``score`` (above chance)."""
+    from envs.commands.like import report, transfer_of
+    from envs.runs.sim2real import Matched
+    from envs.world.sensor import Sensor
+    from placeclust.camera import CameraSpec
+
+    m = Matched(CameraSpec(32, 24, True, 60.0), Sensor(), (("online", "sift"), ("nested", "sift")))
+    one_place = {"hits": [1.0] * 20, "chances": [1.0] * 20, "top1": 1.0, "chance": 1.0,
+                 "n_places": 1}
+    fine = {"hits": [1.0, 0.0] * 10, "chances": [0.1] * 20, "top1": 0.5, "chance": 0.1,
+            "n_places": 10}
+    real = {"configs": {"online (sift)": fine, "nested (sift)": one_place}, "image_stats": {}}
+    sims = [{"scene": s, "queries": 20, "image_stats": {}, "configs": {
+        "online (sift)": {"score": 0.9 - s / 10, "top1": 0.91 - s / 10, "chance": 0.1},
+        "nested (sift)": {"score": 0.0, "top1": 1.0, "chance": 1.0}}} for s in range(3)]
+    above, raw = transfer_of(real, sims, m), transfer_of(real, sims, m, raw=True)
+    assert above.real_means == pytest.approx(((0.5 - 0.1) / 0.9, 0.0))
+    assert above.concordant == 1 and above.sim_means[0] > above.sim_means[1]
+    assert raw.real_means == (0.5, 1.0) and raw.sim_means[0] < raw.sim_means[1]
+    text = report("real", real, sims, m)
+    assert "| nested (sift) | 0.000 [0.000, 0.000] | 0.000 [0.000, 0.000] | 1.000 (1.000) | " \
+           "1.000 (1.000) | 1 |" in text
 
 
 @pytest.mark.parametrize("setup, extra, message", [
@@ -127,11 +156,12 @@ def test_a_camera_file_is_the_same_camera_as_its_settings_on_the_command_line(re
     assert matched() == flags
 
 
-def test_the_shipped_corridor_camera_reads(tmp_path):
+@pytest.mark.parametrize("name", ["vpr-bench-corridor", "rtabmap-loop"])
+def test_the_shipped_cameras_read(tmp_path, name):
     from pathlib import Path
 
     from envs.world.sensor import Sensor
     from placeclust.camera import sensor_of
 
-    shipped = Path(__file__).parents[3] / "assets" / "cameras" / "vpr-bench-corridor.json"
+    shipped = Path(__file__).parents[3] / "assets" / "cameras" / f"{name}.json"
     assert Sensor.of(sensor_of(tmp_path, shipped), str(shipped)).active
