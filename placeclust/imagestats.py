@@ -179,6 +179,69 @@ def image_stats(frames: Sequence[np.ndarray] | np.ndarray,
     return out
 
 
+def revisit_stats(ref: Sequence[np.ndarray], query: Sequence[np.ndarray],
+                  ground_truth: Sequence[Sequence[int]], features: str = "sift",
+                  pairs: int = 200, ratio: float = 0.8, max_features: int = 500
+                  ) -> dict[str, float]:
+    """Matches between a query and its own place on the other drive: for each of up to
+    ``pairs`` queries with ground truth (evenly spread), the most matches it shares with one
+    of its references. A localizer accepts a query where this count clears its threshold
+    (seed 001's 25 matches), so it is the statistic a query's fate depends on, which keypoints
+    a frame and next-frame matches only bound.
+
+    Args:
+        ref, query: the two drives' frames, ``(H, W)`` or ``(H, W, 3)`` uint8, in order.
+        ground_truth: per query, the indices of its references.
+        features, ratio, max_features: as :func:`image_stats`.
+        pairs: queries measured at most.
+
+    Returns:
+        ``revisit_median``, ``revisit_p90`` and ``revisit_pairs`` (queries measured; NaN
+        figures and 0 when no query has a reference).
+
+    Example:
+        >>> from placeclust.imagestats import revisit_stats
+        >>> from placeclust.synthetic import places
+        >>> frames, truth = places(6, n_places=2)
+        >>> s = revisit_stats(frames[::2], frames[1::2], [[0, 1, 2], [3, 4, 5]] * 3, "orb")
+        >>> s["revisit_pairs"], s["revisit_median"] > 0
+        (6, True)
+    """
+    if features not in FEATURES:
+        raise ValueError(f"unknown features {features!r}; choose one of {FEATURES}")
+    if len(ground_truth) != len(query):
+        raise ValueError(f"ground truth for {len(ground_truth)} queries, but {len(query)} "
+                         "query frames")
+    with_truth = [q for q, refs in enumerate(ground_truth) if len(refs)]
+    spread = np.linspace(0, len(with_truth) - 1, min(pairs, len(with_truth)))
+    picks = [with_truth[k] for k in np.unique(spread.round().astype(int))]
+    extractor, binary = FeatureExtractor(features, max_features), features in BINARY
+
+    def describe(frame: np.ndarray) -> np.ndarray:
+        return normalize(extractor.extract(to_gray(frame)).descriptors, binary)
+
+    refs: dict[int, np.ndarray] = {}
+    counts = []
+    for q in picks:
+        desc = describe(query[q])
+        best = 0
+        for r in (int(r) for r in ground_truth[q]):
+            if r not in refs:
+                refs[r] = describe(ref[r])
+            best = max(best, len(ratio_matches(desc, refs[r], binary, ratio)[0]))
+        counts.append(best)
+    return _summary("revisit", counts)
+
+
+def revisit_table(rows: dict[str, dict]) -> str:
+    """A markdown table of :func:`revisit_stats` results, one row per named data set."""
+    lines = ["| sequence | queries | matches with its place on the other drive median / p90 |",
+             "|---|---|---|"]
+    lines += [f"| {name} | {_cell(row, 'revisit_pairs')} | {_cell(row, 'revisit_median')} / "
+              f"{_cell(row, 'revisit_p90')} |" for name, row in rows.items()]
+    return "\n".join(lines)
+
+
 def _cell(row: dict, key: str) -> str:
     value = row.get(key)
     if value is None or not np.isfinite(value):

@@ -33,7 +33,7 @@ import numpy as np
 from placeclust.argparsing import ArgumentParser
 from placeclust.camera import CAMERA_FILE, camera_of, sensor_of
 from placeclust.docs_section import write_section
-from placeclust.imagestats import stats_table
+from placeclust.imagestats import revisit_table, stats_table
 from placeclust.metrics import nmi
 from placeclust.runner import ALGORITHMS, preset_params
 from placeclust.stats import Estimate, interval
@@ -182,6 +182,12 @@ def report(dataset: str, real: dict[str, Any], sims: list[dict[str, Any]], m: Ma
              **{f"simulated scene {s['scene']}": s["image_stats"] for s in sims}}
     lines += ["Image statistics (SIFT, the 500 strongest keypoints, Lowe's ratio 0.8, "
               "`placeclust.imagestats`; simulated places are rooms):", "", stats_table(stats)]
+    revisit = {f"{dataset}": real.get("revisit"),
+               **{f"simulated scene {s['scene']}": s.get("revisit") for s in sims}}
+    if all(revisit.values()):
+        lines += ["", "What a localizer sees: each query's most matches with one of its "
+                  "references (`placeclust.imagestats.revisit_stats`; the nested mapper opens "
+                  "a location under 25):", "", revisit_table(revisit)]
     return "\n".join(lines)
 
 

@@ -40,7 +40,7 @@ import numpy as np
 from placeclust.atomic import write_atomic
 from placeclust.camera import CameraSpec
 from placeclust.datasets import ImageFolder
-from placeclust.imagestats import image_stats
+from placeclust.imagestats import image_stats, revisit_stats
 from placeclust.loops import LoopClosures
 from placeclust.realdata import cluster_folder, dataset_kind, fingerprint, open_queries, vpr_bench
 from placeclust.strict_json import dumps
@@ -126,17 +126,20 @@ def matched_truth(ref: Tour, query: Tour, radius: float, fov: float) -> list[lis
             for q, refs in enumerate(near)]
 
 
-def simulated_vpr_bench(scene: int, m: Matched, folder: Path) -> tuple[int, dict[str, float]]:
+def simulated_vpr_bench(scene: int, m: Matched, folder: Path
+                        ) -> tuple[int, dict[str, float], dict[str, float]]:
     """Write building ``scene`` as a VPR-Bench data set like the real one to ``folder``;
-    returns the number of queries that have a reference and the reference drive's image
-    statistics, with its rooms as places."""
+    returns the number of queries that have a reference, the reference drive's image
+    statistics (its rooms as places) and the queries' matches with their references
+    (:func:`placeclust.imagestats.revisit_stats`)."""
     from placeclust.vprbench import write_vpr_bench
 
     ref, query = record(scene, m)
     truth = matched_truth(ref, query, m.radius, m.camera.fov)
     write_vpr_bench(folder, ref.frames, query.frames, truth)
-    return sum(1 for t in truth if t), image_stats(ref.frames, _places(ref.room),
-                                                    features="sift")
+    return (sum(1 for t in truth if t),
+            image_stats(ref.frames, _places(ref.room), features="sift"),
+            revisit_stats(ref.frames, query.frames, truth, features="sift"))
 
 
 def _places(labels: np.ndarray | None) -> np.ndarray | None:
@@ -200,9 +203,10 @@ def building_job(scene: int, m: Matched, out: str) -> dict[str, Any]:
                   "image_stats": image_stats(ref.frames, _places(ref.room), features="sift")}
     else:
         with tempfile.TemporaryDirectory() as tmp:
-            n_queries, stats = simulated_vpr_bench(scene, m, Path(tmp))
+            n_queries, stats, revisit = simulated_vpr_bench(scene, m, Path(tmp))
             result = {"stamp": m.stamp(), "scene": scene, "queries": n_queries,
-                      "configs": score_configs(VPRBench(tmp), m), "image_stats": stats}
+                      "configs": score_configs(VPRBench(tmp), m), "image_stats": stats,
+                      "revisit": revisit}
     path.parent.mkdir(parents=True, exist_ok=True)
     _write(path, result)
     return result
@@ -226,7 +230,9 @@ def real_side(dataset: str, m: Matched, out: Path) -> dict[str, Any]:
     else:
         data = open_queries(dataset)
         result = {"stamp": stamp, "configs": score_configs(data, m),
-                  "image_stats": image_stats(data.ref, features="sift")}
+                  "image_stats": image_stats(data.ref, features="sift"),
+                  "revisit": revisit_stats(data.ref, data.query, data.ground_truth,
+                                           features="sift")}
     out.mkdir(parents=True, exist_ok=True)
     _write(path, result)
     return result

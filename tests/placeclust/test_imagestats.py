@@ -2,7 +2,7 @@ import numpy as np
 import pytest
 
 from placeclust.datasets import write_image_folder
-from placeclust.imagestats import image_stats, main, stats_table
+from placeclust.imagestats import image_stats, main, revisit_stats, revisit_table, stats_table
 from placeclust.synthetic import places, textured
 
 LABELLED = ("across_median", "across_p90", "across_pairs", "within_median", "within_p90",
@@ -160,3 +160,21 @@ def test_docs_writes_the_section_and_keeps_the_rest(tmp_path, tour, capsys):
     assert "Kept." in text and "old" not in text and "| sequence |" in text
     assert "`placeclust stats --images" in text
     assert text.count("<!-- BEGIN GENERATED image-stats -->") == 1
+
+
+def test_a_query_matches_its_own_place_on_the_other_drive_more_than_another(tour):
+    """The revisit count follows the ground truth: pointed at the query's own place it is
+    higher than pointed at the other place (fault caught: matching a fixed reference)."""
+    frames, truth = tour
+    ref, query = frames[::2], frames[1::2]  # 3 views a place on each drive
+    own = [np.flatnonzero(truth[::2] == t).tolist() for t in truth[1::2]]
+    other = [np.flatnonzero(truth[::2] != t).tolist() for t in truth[1::2]]
+    right, wrong = (revisit_stats(ref, query, gt, "orb") for gt in (own, other))
+    assert right["revisit_pairs"] == 6 and right["revisit_median"] > wrong["revisit_median"]
+    none = revisit_stats(ref, query, [[]] * 6, "orb")
+    assert none["revisit_pairs"] == 0 and np.isnan(none["revisit_median"])
+    assert revisit_stats(ref, query, own, "orb", pairs=2)["revisit_pairs"] == 2
+    table = revisit_table({"a": right, "b": none})
+    assert "| a | 6 |" in table and "| b | 0 | – / – |" in table
+    with pytest.raises(ValueError, match="ground truth for 5 queries, but 6"):
+        revisit_stats(ref, query, own[:5], "orb")

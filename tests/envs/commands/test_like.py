@@ -44,6 +44,8 @@ def test_both_sides_run_the_same_configurations_and_resume(real, tmp_path, capsy
     assert kept["queries"] > 0 and set(kept["configs"]) == {"online (orb)", "nested (orb)"}
     real_kept = json.loads((out / "real.json").read_text())
     assert len(real_kept["configs"]["online (orb)"]["hits"]) == 20  # every query has truth
+    assert real_kept["revisit"]["revisit_pairs"] == 20 and kept["revisit"]["revisit_pairs"] > 0
+    assert "What a localizer sees" in text
     stamp = (out / "sim" / "scene_1000.json").stat().st_mtime_ns
     capsys.readouterr()
     with pytest.raises(SystemExit):  # the same command: kept buildings and data are reused
