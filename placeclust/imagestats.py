@@ -179,8 +179,8 @@ def image_stats(frames: Sequence[np.ndarray] | np.ndarray,
     return out
 
 
-def revisit_stats(ref: Sequence[np.ndarray], query: Sequence[np.ndarray],
-                  ground_truth: Sequence[Sequence[int]], features: str = "sift",
+def revisit_stats(ref: Sequence[np.ndarray] | np.ndarray, query: Sequence[np.ndarray] | np.ndarray,
+                  ground_truth: Sequence[Sequence[int] | np.ndarray], features: str = "sift",
                   pairs: int = 200, ratio: float = 0.8, max_features: int = 500
                   ) -> dict[str, float]:
     """Matches between a query and its own place on the other drive: for each of up to

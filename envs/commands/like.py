@@ -182,9 +182,9 @@ def report(dataset: str, real: dict[str, Any], sims: list[dict[str, Any]], m: Ma
              **{f"simulated scene {s['scene']}": s["image_stats"] for s in sims}}
     lines += ["Image statistics (SIFT, the 500 strongest keypoints, Lowe's ratio 0.8, "
               "`placeclust.imagestats`; simulated places are rooms):", "", stats_table(stats)]
-    revisit = {f"{dataset}": real.get("revisit"),
-               **{f"simulated scene {s['scene']}": s.get("revisit") for s in sims}}
-    if all(revisit.values()):
+    if "revisit" in real and all("revisit" in s for s in sims):
+        revisit = {f"{dataset}": real["revisit"],
+                   **{f"simulated scene {s['scene']}": s["revisit"] for s in sims}}
         lines += ["", "What a localizer sees: each query's most matches with one of its "
                   "references (`placeclust.imagestats.revisit_stats`; the nested mapper opens "
                   "a location under 25):", "", revisit_table(revisit)]
