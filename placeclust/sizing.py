@@ -69,10 +69,15 @@ class Plan:
 
     def standard_error(self, buildings: int, errands: float) -> float:
         """The difference's standard error at ``buildings`` buildings of ``errands`` each."""
-        if buildings < 1 or not errands > 0:
-            raise ValueError(f"need at least 1 building and errands > 0, got {buildings}, "
-                             f"{errands}")
-        return math.sqrt((self.between + self.within / errands) / buildings)
+        if buildings < 1:
+            raise ValueError(f"need at least 1 building, got {buildings}")
+        return math.sqrt(self._building_variance(errands) / buildings)
+
+    def _building_variance(self, errands: float) -> float:
+        """The variance of one building's difference at ``errands`` a side."""
+        if not errands > 0:
+            raise ValueError(f"need errands > 0, got {errands}")
+        return self.between + self.within / errands
 
     def half_width(self, buildings: int, errands: float, confidence: float = CONFIDENCE
                    ) -> float:
@@ -94,8 +99,7 @@ class Plan:
         if self.difference == 0:
             return None
         z = _z(confidence) + stats.norm.ppf(power)
-        variance = self.between + self.within / errands
-        return max(2, math.ceil(variance * (z / self.difference) ** 2))
+        return max(2, math.ceil(self._building_variance(errands) * (z / self.difference) ** 2))
 
 
 def _z(confidence: float) -> float:
