@@ -92,6 +92,7 @@ SUITE_OPTIONS = {"placenav-v1": "--agent planner",
                      t for t in TRACK_NAMES if t != "long"),
                  "placenav-v3": "--agent spot --goal-kind image --track " + " ".join(
                      t for t in TRACK_NAMES if t != "long")}
+SUITE_OPTIONS["placenav-v4"] = SUITE_OPTIONS["placenav-v3"]  # v3 with more errands
 #: options that take no value (``--latency-sizes`` may take none, and is replaced anyway)
 _FLAGS = {"--quick", "--quiet", "--localize-only", "--force", "--alone"}
 

@@ -7,8 +7,8 @@
     placeclust leaderboard --split val --n-scenes 16 --rooms 6 --goals-per-scene 10 ...
 
 Every recognizer maps every building of the split from a guided tour, and the same agent
-(the suite's: ``planner`` in v1, ``relocalizer`` in v2, ``spot`` in v3; ``planner`` without a
-suite) runs the same errands on each map
+(the suite's: ``planner`` in v1, ``relocalizer`` in v2, ``spot`` in v3 and v4; ``planner``
+without a suite) runs the same errands on each map
 (:func:`envs.runs.tour_errands.run_scene`). A suite (:mod:`envs.runs.suite`) fixes the
 buildings, rooms, errands, tour length and seed, so results are comparable across machines and
 versions that render and simulate alike (the render and physics fingerprints every results file
