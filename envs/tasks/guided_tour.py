@@ -31,19 +31,18 @@ import gymnasium as gym
 import numpy as np
 from gymnasium import spaces
 
-from placeclust.metrics import score
-from placeclust.protocol import reads_images, resolve
+from placeclust.protocol import resolve
 
 from ..world.changes import clear_pose
-from ..world.conditions import CONDITION_KEYS, CONDITIONS
+from ..world.conditions import CONDITIONS
 from ..world.robot import check_action
 from .errand_draws import carry, check_errands
 from .errand_goals import Goal, RoomGoals, make_goals
 from .goals import NavTask
 from .oracles import BoundTrueRooms, TrueRooms
-from .place_id import PlaceIdWrapper, Recognizer
+from .place_id import Recognizer
 from .place_nav import PlaceNavEnv
-from .recognizers import RecognizerName, parse_recognizer
+from .place_reader import PlaceReader
 from .records import Errand, TourRecord, TourState
 from .tour import guided_tour
 
@@ -168,41 +167,16 @@ class GuidedTourEnv(NavTask, gym.utils.EzPickle):
             errand_learn=errand_learn, goal_kind=goal_kind, success_radius=success_radius, **world)
         check_errands(n_errands, errand_steps, tour_steps_per_room, name_after,
                       min_errand_distance, errand_start, n_rooms)
-        if recognizer_params and not isinstance(recognizer, str):
-            raise ValueError("recognizer_params go with a package.module:Class recognizer, "
-                             "not with a recognizer object")
         if errand_condition is not None and errand_condition not in CONDITIONS:
             raise ValueError(f"unknown errand_condition {errand_condition!r}; choose one of "
                              f"{sorted(CONDITIONS)} or None (the tour's)")
-        parsed: RecognizerName | None = None
-        built: Recognizer | TrueRooms
-        if isinstance(recognizer, str):  # one parse: what it builds and the camera it reads
-            parsed = parse_recognizer(recognizer)
-            built = parsed.build(n_rooms, max_places, recognizer_params)
-        else:
-            built = recognizer
-        #: the true rooms (``oracle`` and its calibration family), or None for a recognizer
-        self.truth: TrueRooms | None = built if isinstance(built, TrueRooms) else None
-        self._truth: BoundTrueRooms | None = None
-        model = None if isinstance(built, TrueRooms) else built
-        world.setdefault("camera", "panorama" if parsed is None else parsed.camera)
-        # a recognizer that reads no images (random, none) gets none rendered: the same ids
-        looks = model is not None and reads_images(model)
-        nav = PlaceNavEnv(n_rooms=n_rooms, render_mode=render_mode,
-                          panorama=looks or observe_image, **world)
-        self._place_ids = None if model is None else PlaceIdWrapper(
-            nav, model, max_places=max_places, learn=True, reset_map=True)
-        if self._place_ids is not None and not errand_learn and self._place_ids.reads_images:
-            self._place_ids.check_localizes()  # a ValueError before any tour is driven
-        self._env: gym.Env = nav if self._place_ids is None else self._place_ids
-        self.nav = self.tour_nav = nav
-        # the errands' world: the same building under another condition, built once
-        self.errand_nav = nav if errand_condition is None else PlaceNavEnv(
-            n_rooms=n_rooms, render_mode=render_mode, panorama=looks or observe_image,
-            **{k: v for k, v in world.items() if k not in CONDITION_KEYS},
-            **CONDITIONS[errand_condition])
+        #: who gives each frame its place, and the tour's and the errands' worlds
+        self.places = PlaceReader(recognizer, n_rooms, max_places, recognizer_params,
+                                  errand_condition, errand_learn, observe_image, render_mode,
+                                  **world)
+        nav = self.nav = self.tour_nav = self.places.tour_nav
+        self.errand_nav = self.places.errand_nav
         self.errand_condition, self.errand_learn = errand_condition, errand_learn
-        self._place = -1  # the raw place of the current frame
         self._tour: TourRecord | None = None  # the last tour, its end pose and last room
         self._tour_state: TourState | None = None  # and all the errands go on from
         self._tour_end, self._tour_room = np.zeros(3), 0
@@ -235,9 +209,9 @@ class GuidedTourEnv(NavTask, gym.utils.EzPickle):
         self._room = 0  # the last room the robot was in (a doorway is in none)
 
     @property
-    def oracle(self) -> bool:
-        """Whether the place ids are the true rooms' (``oracle`` or a calibration oracle)."""
-        return self.truth is not None
+    def truth(self) -> TrueRooms | None:
+        """The true rooms (``oracle`` and its calibration family), or None for a recognizer."""
+        return self.places.truth
 
     @property
     def tour_rooms(self) -> np.ndarray:
@@ -259,12 +233,12 @@ class GuidedTourEnv(NavTask, gym.utils.EzPickle):
     @property
     def bound_truth(self) -> BoundTrueRooms | None:
         """The true rooms bound to this building (``oracle`` and its family), else None."""
-        return self._truth
+        return self.places.bound
 
     @property
     def recognizer(self) -> Recognizer | None:
         """The recognizer with the map it has built (``None`` for ``oracle``)."""
-        return None if self._place_ids is None else self._place_ids.recognizer
+        return self.places.recognizer
 
     def reset(self, *, seed: int | None = None, options: dict[str, Any] | None = None
               ) -> tuple[dict[str, Any], dict[str, Any]]:
@@ -282,8 +256,7 @@ class GuidedTourEnv(NavTask, gym.utils.EzPickle):
         if state is not None:
             tour, obs, info = self._resume(state)
         else:
-            if self.truth is not None:  # seeded by the tour: the episode's stream stays v1's
-                self._truth = self.truth.bind(self.plan, tour_seed)
+            self.places.bind(self.plan, tour_seed)  # the episode's stream stays v1's
             tour, obs, info = self._guided_tour(tour_seed)
             self._tour_state = self._keep_tour(tour, obs, info)
         self._named = tour.heard_names()
@@ -299,7 +272,7 @@ class GuidedTourEnv(NavTask, gym.utils.EzPickle):
         self._pose = info["pose"]
         obs, info = self._start_errand(obs, info)
         return self._observation(obs, info), {
-            "tour": tour, "map": self._map_scores(tour, self._tour_rooms), "named": self._named,
+            "tour": tour, "map": tour.map_scores(self._tour_rooms), "named": self._named,
             **self._step_info(info)}
 
     def step(self, action: np.ndarray
@@ -307,8 +280,8 @@ class GuidedTourEnv(NavTask, gym.utils.EzPickle):
         if self._over:
             raise RuntimeError("the episode is over; call reset()")
         action = check_action(action, size=self._action_size)
-        obs, _, _, _, info = self._env.step(action[:2])
-        self._read_place(info)
+        obs, _, _, _, info = self.places.env.step(action[:2])
+        self.places.read(info)
         errand = self._errands[-1]
         errand.steps += 1
         errand.path += math.dist(self._pose[:2], info["pose"][:2])
@@ -330,9 +303,7 @@ class GuidedTourEnv(NavTask, gym.utils.EzPickle):
         return self._observation(obs, info), reward, terminated, False, out
 
     def close(self) -> None:
-        self._env.close()
-        if self.errand_nav is not self.tour_nav:
-            self.errand_nav.close()
+        self.places.close()
 
     def tour_state(self) -> TourState:
         """What the last tour left, as it stood when the tour ended (copies):
@@ -346,25 +317,20 @@ class GuidedTourEnv(NavTask, gym.utils.EzPickle):
     def _keep_tour(self, tour: TourRecord, obs: dict[str, Any], info: dict[str, Any]
                    ) -> TourState:
         """The tour's end, kept before any errand moves the robot or the map learns more."""
-        return TourState(tour, copy.deepcopy(self.recognizer),
-                         copy.deepcopy(self._truth), self._tour_rooms.copy(),
+        return TourState(tour, *self.places.keep(), self._tour_rooms.copy(),
                          self._tour_end.copy(), self._tour_room, self.nav.snapshot(),
-                         copy.deepcopy(obs), copy.deepcopy(info), self._place,
+                         copy.deepcopy(obs), copy.deepcopy(info), self.places.place,
                          self._tour_poses.copy())
 
     def _resume(self, state: TourState) -> tuple[TourRecord, dict, dict]:
         """Start from ``state`` instead of a tour: its map, and the simulator as the tour left
         it (the robot in motion, the random streams), seeing the tour's last frame."""
-        if (self._place_ids is None) != (state.recognizer is None):
-            raise ValueError("the tour state is of another kind of recognizer than this env's")
-        self.nav.restore(state.nav)  # a ValueError for another building, before any change
-        if self._place_ids is not None:
-            self._place_ids.recognizer = copy.deepcopy(state.recognizer)
-        self._truth = copy.deepcopy(state.truth)
+        # a ValueError for another kind of recognizer or building, before any change
+        self.places.restore(state.recognizer, state.truth, state.place, state.nav)
         self._tour, self._tour_rooms = state.record, state.rooms.copy()
         self._tour_poses = np.zeros((0, 3)) if state.poses is None else state.poses.copy()
         self._tour_end, self._tour_room = state.pose.copy(), state.room
-        self._room, self._place = state.room, state.place
+        self._room = state.room
         self._tour_state = state
         return state.record, copy.deepcopy(state.observation), copy.deepcopy(state.info)
 
@@ -373,29 +339,15 @@ class GuidedTourEnv(NavTask, gym.utils.EzPickle):
     def _use(self, nav: PlaceNavEnv, learn: bool) -> None:
         """Run on ``nav`` from now on, the recognizer learning or only localizing."""
         self.nav = nav
-        if self._place_ids is None:
-            self._env = nav
-        else:
-            self._place_ids.env = nav
-            # one that reads no images has no map to fix: its ids go on as they were
-            self._place_ids.learn = learn or not self._place_ids.reads_images
+        self.places.use(nav, learn)
 
     def _change_condition(self, pose: np.ndarray) -> tuple[dict[str, Any], dict[str, Any]]:
         """Move to the errands' world at the tour's last pose; the frame seen there, under the
         errands' condition, and its place (the map is the tour's, still learning or not)."""
         self._use(self.errand_nav, learn=self.errand_learn)
-        return self._see(*self.nav.reset(seed=int(self.np_random.integers(2**31)),
-                                         options={"pose": clear_pose(self.nav.plan, pose)}))
-
-    def _see(self, obs: dict[str, Any], info: dict[str, Any]
-             ) -> tuple[dict[str, Any], dict[str, Any]]:
-        """``nav``'s observation and info of a robot placed without a step: the recognizer
-        takes in the frame (learning or not, as set) and its place is read."""
-        if self._place_ids is not None:
-            obs = self._place_ids.observation(obs)
-            info = {**info, **self._place_ids.last_info}
-        self._read_place(info)
-        return obs, info
+        return self.places.see(*self.nav.reset(seed=int(self.np_random.integers(2**31)),
+                                               options={"pose": clear_pose(self.nav.plan,
+                                                                           pose)}))
 
     # -- the tour --------------------------------------------------------------------------
 
@@ -405,10 +357,10 @@ class GuidedTourEnv(NavTask, gym.utils.EzPickle):
 
         def read(info: dict[str, Any]) -> int:  # the true poses, where image goals are drawn
             poses.append(info["pose"])
-            return self._read_place(info)
+            return self.places.read(info)
 
         record, rooms, obs, info = guided_tour(
-            self._env, self.plan, read, self.tour_steps_per_room, self.name_after,
+            self.places.env, self.plan, read, self.tour_steps_per_room, self.name_after,
             tour_seed, self.nav.model.opt.timestep * self.nav.n_substeps)
         self._tour_poses = np.array(poses, float).reshape(-1, 3)
         if self.recognizer is not None:
@@ -418,12 +370,6 @@ class GuidedTourEnv(NavTask, gym.utils.EzPickle):
         self._tour, self._tour_rooms = record, rooms
         self._tour_end, self._tour_room = info["pose"].copy(), self._room
         return record, obs, info
-
-    def _map_scores(self, tour: TourRecord, rooms: np.ndarray) -> dict[str, float]:
-        inside = rooms >= 0
-        s = score(tour.place_id[inside], rooms[inside])
-        return {"precision": s["precision"], "nmi": s["nmi"], "n_places": s["n_places"],
-                "places_per_room": s["n_places"] / max(s["n_rooms"], 1)}
 
     # -- errands ---------------------------------------------------------------------------
 
@@ -446,12 +392,7 @@ class GuidedTourEnv(NavTask, gym.utils.EzPickle):
         recognizer and the true rooms learn that it was moved."""
         obs, info = carry(self.nav, self.np_random, self.goal_room, goal,
                           self.min_errand_distance)
-        if self._place_ids is not None:  # the recognizer sees the new start, lost
-            obs, info = self._place_ids.relocated(obs, info)
-        if self._truth is not None:
-            self._truth.reset_position()
-        self._read_place(info)
-        return obs, info
+        return self.places.relocated(obs, info)
 
     def _last_room(self, info: dict[str, Any]) -> int:
         """The room the robot is in or, in a doorway (no room), the one it is leaving."""
@@ -459,17 +400,8 @@ class GuidedTourEnv(NavTask, gym.utils.EzPickle):
             self._room = info["room_id"]
         return self._room
 
-    def _read_place(self, info: dict[str, Any]) -> int:
-        """The raw place of the frame ``info`` describes (-1 unknown), read once per frame: a
-        noisy oracle draws as it answers."""
-        if self._truth is not None:
-            self._place = self._truth.place(info["room_id"], info["pose"])
-        else:
-            self._place = int(info["place_id"])
-        return self._place
-
     def _observation(self, obs: dict[str, Any], info: dict[str, Any]) -> dict[str, Any]:
-        raw = self._place
+        raw = self.places.place
         place = raw if 0 <= raw < self.max_places else self.max_places
         out = {"place_id": np.int64(place), **self.goals.observe(self)}
         keys = [k for k in self.observation_space.spaces if k not in out]
@@ -477,6 +409,6 @@ class GuidedTourEnv(NavTask, gym.utils.EzPickle):
 
     def _step_info(self, info: dict[str, Any]) -> dict[str, Any]:
         return {"errand": len(self._errands) - 1, "goal": self._errands[-1].goal,
-                "place_id": self._place, "room_id": info["room_id"],
+                "place_id": self.places.place, "room_id": info["room_id"],
                 "pose": info["pose"]}
 

@@ -10,6 +10,8 @@ from typing import Any
 
 import numpy as np
 
+from placeclust.metrics import score
+
 
 @dataclass(eq=False)
 class TourRecord:
@@ -35,6 +37,14 @@ class TourRecord:
     def heard_names(self) -> list[str]:
         """The room names the guide said, in the order said."""
         return [str(h) for h in self.heard if h]
+
+    def map_scores(self, rooms: np.ndarray) -> dict[str, float]:
+        """The tour map against ``rooms``, the true room of each step (-1 in a doorway, left
+        out): ``precision``, ``nmi``, ``n_places`` and ``places_per_room``."""
+        inside = rooms >= 0
+        s = score(self.place_id[inside], rooms[inside])
+        return {"precision": s["precision"], "nmi": s["nmi"], "n_places": s["n_places"],
+                "places_per_room": s["n_places"] / max(s["n_rooms"], 1)}
 
     def __eq__(self, other: object) -> bool:
         if not isinstance(other, TourRecord):

@@ -184,7 +184,7 @@ def test_a_map_that_only_localizes_keeps_its_places(make_tour):
     while not done:
         _, _, done, _, info = env.step(np.array([0.6, 0.3], np.float32))
     assert env.unwrapped.recognizer.n_places == n
-    assert not env.unwrapped._place_ids.learn
+    assert not env.unwrapped.places.wrapper.learn
 
 
 def test_conditions_and_learning_are_checked_before_the_tour():
