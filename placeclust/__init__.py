@@ -13,4 +13,4 @@ from placeclust.online import PANORAMA, PRESETS, UNKNOWN, OnlinePlaceClustering 
 from placeclust.presets import PANORAMA_ORB  # noqa: E402
 
 __all__ = ["PANORAMA", "PANORAMA_ORB", "PRESETS", "UNKNOWN", "OnlinePlaceClustering"]
-__version__ = "0.18.0"
+__version__ = "0.19.0"

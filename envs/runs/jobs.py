@@ -28,6 +28,7 @@ from placeclust.progress import progress as progress_bar
 from placeclust.runner import recognizer_class
 
 from ..agents.learned import config_path
+from ..tasks.oracles import is_oracle_name
 from ..tasks.recognizers import is_own
 from .pool import run_all
 from .results import policy_name
@@ -35,8 +36,14 @@ from .store import RunStore
 from .suite import library_versions, render_fingerprint, sources_fingerprint
 from .tour_errands import POLICY, run_scene
 
-#: the slow recognizers first, so the last job to finish is a short one
+#: the slow recognizers first, so the last job to finish is a short one: a recognizer of
+#: one's own with the slowest, the calibration oracles (which render nothing) with ``oracle``
 COST = {"panorama": 0, "nested": 1, "panorama-orb": 2, "random": 3, "none": 4, "oracle": 5}
+
+
+def _cost(job: dict[str, Any]) -> int:
+    name = job["recognizer"]
+    return COST.get(name, COST["oracle"] if is_oracle_name(name) else 0)
 
 
 def job_fingerprint(job: dict[str, Any]) -> str:
@@ -109,7 +116,7 @@ def run_jobs(jobs: list[dict[str, Any]], out: Path | None = None, workers: int =
         print(f"{len(store.stale)} kept results in {store.folder} are stale (code, libraries "
               "or rendering changed since) and run again", file=sys.stderr)
     todo = sorted((j for j in jobs if job_key(j) not in done),
-                  key=lambda j: COST.get(j["recognizer"], 0))
+                  key=_cost)
     if progress:  # at once: the first job's line comes only after its tour
         reused = f", {len(done)} kept from an earlier run in {out}" if done else ""
         print(f"errands: {plural(len(todo), 'job')} to run{reused} (a job: one recognizer's "
