@@ -49,6 +49,7 @@ from ..runs.sim2real import (
     question_of,
     run_matched,
 )
+from ..world.conditions import CONDITIONS
 from ..world.layout import room_count
 from ..world.sensor import Sensor
 from ..world.splits import SPLITS, check_split
@@ -110,12 +111,14 @@ def _question(m: Matched) -> str:
     if m.question == "images":
         return ("one drive of the tour, clustered; NMI against its rooms, as the folder's "
                 "against its labels (`placeclust.realdata.cluster_folder`)")
-    return (f"the reference and query drives the two halves of one tour under one light; a "
-            f"query's references lie within {m.radius:g} m in its room, heading within half "
-            "the field of view; top-1 at the level of places (VPR-Bench's, "
-            "`placeclust.vprbench`) above chance, (top-1 − chance) / (1 − chance), chance "
-            "being what a uniformly drawn place of the map scores (a map of one place scores "
-            "0, not 1)")
+    drives = ("the two halves of one tour under one light" if m.query_condition is None else
+              f"the two halves of one tour, the query half driven again under "
+              f"`{m.query_condition}`")
+    return (f"the reference and query drives {drives}; a query's references lie within "
+            f"{m.radius:g} m in its room, heading within half the field of view; top-1 at "
+            "the level of places (VPR-Bench's, `placeclust.vprbench`) above chance, "
+            "(top-1 − chance) / (1 − chance), chance being what a uniformly drawn place of "
+            "the map scores (a map of one place scores 0, not 1)")
 
 
 def _row(name: str, sims: list[dict[str, Any]], sim_mean: float, on_real: Estimate,
@@ -224,6 +227,9 @@ def build_parser(prog: str) -> ArgumentParser:
                    "this many metres, in its room, looking the same way")
     p.add_argument("--doors", type=float, metavar="F", help="buildings with doors (F of the "
                    "doorways with an automatic door)")
+    p.add_argument("--query-condition", choices=tuple(CONDITIONS), help="a VPR-Bench "
+                   "question's query drive under this condition (the reference drive's light "
+                   "otherwise): the same route on another day")
     p.add_argument("--out", help="report folder (default runs/like-NAME)")
     p.add_argument("--workers", type=int, default=0, help="processes; 0: one per core")
     p.add_argument("--executor", choices=("process", "ray"), default="process")
@@ -246,6 +252,9 @@ def matched_from_args(args: argparse.Namespace) -> tuple[str, list[int], Matched
     if not (math.isfinite(args.radius) and args.radius > 0):
         raise ValueError(f"--radius must be a positive number of metres, got {args.radius}")
     question = question_of(args.dataset)
+    if args.query_condition and question != "vpr-bench":
+        raise ValueError(f"--query-condition sets a query drive, and {args.dataset} asks no "
+                         "queries (a labelled folder is clustered as one drive)")
     cannot = [a for a in args.algos if a not in ALGOS]
     if question == "vpr-bench" and cannot:
         raise ValueError(f"{', '.join(cannot)} cannot localize on a fixed map, which "
@@ -261,7 +270,7 @@ def matched_from_args(args: argparse.Namespace) -> tuple[str, list[int], Matched
     m = Matched(camera_of(args.dataset, args.camera_file), Sensor.parse(args.sensor, stated),
                 configs, question, rooms=args.rooms, steps_per_room=args.steps_per_room,
                 stride=args.stride, radius=args.radius, doors=args.doors,
-                params=tuple(sorted(params.items())))
+                params=tuple(sorted(params.items())), query_condition=args.query_condition)
     return args.dataset, scene_list, m, Path(args.out or f"runs/like-{Path(args.dataset).name}")
 
 

@@ -7,7 +7,9 @@ size, colour and field of view (:func:`placeclust.camera.camera_of`), with the s
 asked for (:class:`envs.world.sensor.Sensor`); a reference drive and a query drive, the two
 halves of one tour (a tour visits every room, then revisits them along other paths: the second
 half traverses the first half's places again, as ``rtabmap-loop``'s second lap does), under one
-light; and VPR-Bench's ground truth from positions, each query's references being those within
+light or, with ``query_condition``, the query drive under another (the same route driven again
+under that light or after furniture moved: a real data set's second traversal is another day's);
+and VPR-Bench's ground truth from positions, each query's references being those within
 ``radius`` metres in its room that look the same way (heading within half the field of view:
 a forward camera turned round sees another place). Every recognizer × feature configuration
 then maps ``ref/`` and localizes ``query/`` on both sides through the same code
@@ -47,6 +49,7 @@ from placeclust.strict_json import dumps
 from placeclust.vprbench import VPRBench, above_chance, nearby_truth, query_chances
 
 from ..tasks.tour import Tour, record_tour
+from ..world.conditions import CONDITIONS
 from ..world.sensor import Sensor
 from .pool import run_all
 from .suite import sources_fingerprint
@@ -78,6 +81,9 @@ class Matched:
     radius: float = 1.0
     doors: float | None = None
     params: tuple[tuple[str, Any], ...] = ()
+    #: the query drive's condition (:data:`~envs.world.conditions.CONDITIONS`); None: the
+    #: reference drive's
+    query_condition: str | None = None
 
     def stamp(self) -> str:
         """What a kept figure must match to be reused: these settings and the code."""
@@ -103,18 +109,26 @@ def record(scene: int, m: Matched) -> tuple[Tour, Tour]:
     """The reference and query drives of ``scene``: one forward-camera tour like the data
     set's camera, twice ``rooms * steps_per_room`` frames long (every ``stride``-th kept), cut
     in two. A tour visits every room first and then revisits them along other paths, so its
-    second half is a second traversal of the places of its first."""
+    second half is a second traversal of the places of its first. With
+    ``m.query_condition`` the query half is that of the same tour driven under the condition
+    (rendered whole, once more: the route up to it must be driven)."""
     sensor = replace(m.sensor, grey=m.sensor.grey or not m.camera.colour)
     half = m.rooms * m.steps_per_room
-    tour, _ = record_tour(scene, m.rooms, 2 * half * m.stride, seed=0, progress=False,
-                          sensor=sensor, camera="forward", image_width=m.camera.width,
-                          image_height=m.camera.height, image_fov=m.camera.fov, doors=m.doors)
 
-    def part(start: int) -> Tour:
+    def drive(**condition: Any) -> Tour:
+        tour, _ = record_tour(scene, m.rooms, 2 * half * m.stride, seed=0, progress=False,
+                              sensor=sensor, camera="forward", image_width=m.camera.width,
+                              image_height=m.camera.height, image_fov=m.camera.fov,
+                              doors=m.doors, **condition)
+        return tour
+
+    def part(tour: Tour, start: int) -> Tour:
         keep = slice(start * m.stride, (start + half) * m.stride, m.stride)
         return Tour(tour.frames[keep], tour.room[keep], tour.pose[keep], tour.room_names)
 
-    return part(0), part(half)
+    tour = drive()
+    query = tour if m.query_condition is None else drive(**CONDITIONS[m.query_condition])
+    return part(tour, 0), part(query, half)
 
 
 def matched_truth(ref: Tour, query: Tour, radius: float, fov: float) -> list[list[int]]:

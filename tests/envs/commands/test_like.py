@@ -124,6 +124,8 @@ def test_a_map_of_one_place_ranks_last_above_chance_though_its_raw_top1_is_best(
     ("vpr", ("--split", "val", "--scenes", "5"), "are not in the 'val' split"),
     ("vpr", ("--sensor", "gain=2"), "NAME one of grey"),
     ("vpr", ("--camera-file", "missing.json"), "camera file missing.json does not exist"),
+    ("vpr", ("--query-condition", "dusk"), "invalid choice: 'dusk'"),
+    ("labelled", ("--query-condition", "night"), "asks no queries"),
 ])
 def test_bad_input_is_one_line_exit_2_and_writes_nothing(real, tmp_path, capsys, setup, extra,
                                                          message):
@@ -131,6 +133,9 @@ def test_bad_input_is_one_line_exit_2_and_writes_nothing(real, tmp_path, capsys,
     if setup == "unlabelled":
         folder = tmp_path / "unlabelled"
         write_image_folder(folder, np.zeros((3, 20, 20, 3), np.uint8))
+    elif setup == "labelled":
+        folder = tmp_path / "labelled"
+        write_image_folder(folder, np.zeros((3, 20, 20, 3), np.uint8), ["a", "b", "b"])
     with pytest.raises(SystemExit) as code:
         _like(folder, tmp_path / "out", *extra)
     err = capsys.readouterr().err.strip()

@@ -1,5 +1,7 @@
 """A simulated building made like a data set: its camera, two drives, VPR-Bench's truth."""
 
+from dataclasses import replace
+
 import numpy as np
 
 from envs.runs.sim2real import Matched, matched_truth, record
@@ -22,3 +24,15 @@ def test_a_grey_data_set_makes_a_grey_simulated_camera(tmp_path):
     ref, query = record(1000, m)
     assert ref.frames.shape == (8, 24, 32, 3) == query.frames.shape
     assert (ref.frames[..., 0] == ref.frames[..., 2]).all()
+
+
+def test_a_query_drive_under_another_light_is_the_same_route_darker():
+    """Fault caught: the condition applied to the reference drive too, or to another route
+    (the ground truth would then pair other poses)."""
+    m = Matched(CameraSpec(32, 24, True, 60.0), Sensor(), (("online", "orb"),), rooms=2,
+                steps_per_room=6)
+    ref, query = record(1000, m)
+    night_ref, night = record(1000, replace(m, query_condition="night"))
+    assert np.array_equal(night_ref.frames, ref.frames)
+    assert np.allclose(night.pose, query.pose) and np.array_equal(night.room, query.room)
+    assert night.frames.mean() < 0.8 * query.frames.mean()
