@@ -45,6 +45,7 @@ from ..runs.sim2real import (
     FEATURES,
     QUESTIONS,
     Matched,
+    condition_kwargs,
     config_name,
     question_of,
     run_matched,
@@ -111,9 +112,9 @@ def _question(m: Matched) -> str:
     if m.question == "images":
         return ("one drive of the tour, clustered; NMI against its rooms, as the folder's "
                 "against its labels (`placeclust.realdata.cluster_folder`)")
-    drives = ("the two halves of one tour under one light" if m.query_condition is None else
+    drives = ("the two halves of one tour under one light" if not m.query_conditions else
               f"the two halves of one tour, the query half driven again under "
-              f"`{m.query_condition}`")
+              f"`{' + '.join(m.query_conditions)}`")
     return (f"the reference and query drives {drives}; a query's references lie within "
             f"{m.radius:g} m in its room, heading within half the field of view; top-1 at "
             "the level of places (VPR-Bench's, `placeclust.vprbench`) above chance, "
@@ -227,9 +228,10 @@ def build_parser(prog: str) -> ArgumentParser:
                    "this many metres, in its room, looking the same way")
     p.add_argument("--doors", type=float, metavar="F", help="buildings with doors (F of the "
                    "doorways with an automatic door)")
-    p.add_argument("--query-condition", choices=tuple(CONDITIONS), help="a VPR-Bench "
-                   "question's query drive under this condition (the reference drive's light "
-                   "otherwise): the same route on another day")
+    p.add_argument("--query-condition", nargs="+", choices=tuple(CONDITIONS), default=[],
+                   help="a VPR-Bench question's query drive under these conditions together "
+                   "(a lighting, an appearance change; the reference drive's otherwise): the "
+                   "same route on another day")
     p.add_argument("--out", help="report folder (default runs/like-NAME)")
     p.add_argument("--workers", type=int, default=0, help="processes; 0: one per core")
     p.add_argument("--executor", choices=("process", "ray"), default="process")
@@ -252,6 +254,7 @@ def matched_from_args(args: argparse.Namespace) -> tuple[str, list[int], Matched
     if not (math.isfinite(args.radius) and args.radius > 0):
         raise ValueError(f"--radius must be a positive number of metres, got {args.radius}")
     question = question_of(args.dataset)
+    condition_kwargs(tuple(args.query_condition))  # a ValueError for two lightings
     if args.query_condition and question != "vpr-bench":
         raise ValueError(f"--query-condition sets a query drive, and {args.dataset} asks no "
                          "queries (a labelled folder is clustered as one drive)")
@@ -270,7 +273,8 @@ def matched_from_args(args: argparse.Namespace) -> tuple[str, list[int], Matched
     m = Matched(camera_of(args.dataset, args.camera_file), Sensor.parse(args.sensor, stated),
                 configs, question, rooms=args.rooms, steps_per_room=args.steps_per_room,
                 stride=args.stride, radius=args.radius, doors=args.doors,
-                params=tuple(sorted(params.items())), query_condition=args.query_condition)
+                params=tuple(sorted(params.items())),
+                query_conditions=tuple(args.query_condition))
     return args.dataset, scene_list, m, Path(args.out or f"runs/like-{Path(args.dataset).name}")
 
 

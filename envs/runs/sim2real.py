@@ -7,8 +7,9 @@ size, colour and field of view (:func:`placeclust.camera.camera_of`), with the s
 asked for (:class:`envs.world.sensor.Sensor`); a reference drive and a query drive, the two
 halves of one tour (a tour visits every room, then revisits them along other paths: the second
 half traverses the first half's places again, as ``rtabmap-loop``'s second lap does), under one
-light or, with ``query_condition``, the query drive under another (the same route driven again
-under that light or after furniture moved: a real data set's second traversal is another day's);
+light or, with ``query_conditions``, the query drive under others (the same route driven again
+under another light, after furniture moved, or both: a real data set's second traversal is
+another day's);
 and VPR-Bench's ground truth from positions, each query's references being those within
 ``radius`` metres in its room that look the same way (heading within half the field of view:
 a forward camera turned round sees another place). Every recognizer × feature configuration
@@ -81,9 +82,9 @@ class Matched:
     radius: float = 1.0
     doors: float | None = None
     params: tuple[tuple[str, Any], ...] = ()
-    #: the query drive's condition (:data:`~envs.world.conditions.CONDITIONS`); None: the
-    #: reference drive's
-    query_condition: str | None = None
+    #: the query drive's conditions (names of :data:`~envs.world.conditions.CONDITIONS`, at
+    #: most one lighting), applied together; none: the reference drive's
+    query_conditions: tuple[str, ...] = ()
 
     def stamp(self) -> str:
         """What a kept figure must match to be reused: these settings and the code."""
@@ -101,6 +102,25 @@ def question_of(dataset: str | Path) -> str:
     return "images" if dataset_kind(dataset) == "images" else "vpr-bench"
 
 
+def condition_kwargs(names: tuple[str, ...]) -> dict[str, Any]:
+    """``PlaceNav-v0``'s arguments for the conditions ``names`` together (night and moved
+    furniture: ``("night", "moved")``).
+
+    Raises:
+        ValueError: an unknown name, or two that set the same thing (two lightings).
+    """
+    out: dict[str, Any] = {}
+    for name in names:
+        if name not in CONDITIONS:
+            raise ValueError(f"unknown condition {name!r}; choose from {sorted(CONDITIONS)}")
+        clash = sorted(set(out) & set(CONDITIONS[name]) - {"changes_seed"})
+        if clash:
+            raise ValueError(f"conditions {', '.join(names)} both set {', '.join(clash)}; "
+                             "give one of each kind (a lighting, an appearance change)")
+        out.update(CONDITIONS[name])
+    return out
+
+
 def config_name(algo: str, features: str) -> str:
     return f"{algo} ({features})"
 
@@ -110,8 +130,8 @@ def record(scene: int, m: Matched) -> tuple[Tour, Tour]:
     set's camera, twice ``rooms * steps_per_room`` frames long (every ``stride``-th kept), cut
     in two. A tour visits every room first and then revisits them along other paths, so its
     second half is a second traversal of the places of its first. With
-    ``m.query_condition`` the query half is that of the same tour driven under the condition
-    (rendered whole, once more: the route up to it must be driven)."""
+    ``m.query_conditions`` the query half is that of the same tour driven under them (rendered
+    whole, once more: the route up to it must be driven)."""
     sensor = replace(m.sensor, grey=m.sensor.grey or not m.camera.colour)
     half = m.rooms * m.steps_per_room
 
@@ -127,7 +147,7 @@ def record(scene: int, m: Matched) -> tuple[Tour, Tour]:
         return Tour(tour.frames[keep], tour.room[keep], tour.pose[keep], tour.room_names)
 
     tour = drive()
-    query = tour if m.query_condition is None else drive(**CONDITIONS[m.query_condition])
+    query = drive(**condition_kwargs(m.query_conditions)) if m.query_conditions else tour
     return part(tour, 0), part(query, half)
 
 

@@ -126,6 +126,7 @@ def test_a_map_of_one_place_ranks_last_above_chance_though_its_raw_top1_is_best(
     ("vpr", ("--camera-file", "missing.json"), "camera file missing.json does not exist"),
     ("vpr", ("--query-condition", "dusk"), "invalid choice: 'dusk'"),
     ("labelled", ("--query-condition", "night"), "asks no queries"),
+    ("vpr", ("--query-condition", "night", "cloudy"), "both set lighting"),
 ])
 def test_bad_input_is_one_line_exit_2_and_writes_nothing(real, tmp_path, capsys, setup, extra,
                                                          message):

@@ -3,8 +3,9 @@
 from dataclasses import replace
 
 import numpy as np
+import pytest
 
-from envs.runs.sim2real import Matched, matched_truth, record
+from envs.runs.sim2real import Matched, condition_kwargs, matched_truth, record
 from envs.tasks.tour import Tour
 from envs.world.sensor import Sensor
 from placeclust.camera import CameraSpec
@@ -32,7 +33,14 @@ def test_a_query_drive_under_another_light_is_the_same_route_darker():
     m = Matched(CameraSpec(32, 24, True, 60.0), Sensor(), (("online", "orb"),), rooms=2,
                 steps_per_room=6)
     ref, query = record(1000, m)
-    night_ref, night = record(1000, replace(m, query_condition="night"))
+    night_ref, night = record(1000, replace(m, query_conditions=("night",)))
     assert np.array_equal(night_ref.frames, ref.frames)
     assert np.allclose(night.pose, query.pose) and np.array_equal(night.room, query.room)
     assert night.frames.mean() < 0.8 * query.frames.mean()
+
+
+def test_conditions_go_together_one_of_each_kind():
+    assert condition_kwargs(("night", "moved"))["lighting"] == "night"
+    assert condition_kwargs(("night", "moved"))["furniture_moved"] > 0
+    with pytest.raises(ValueError, match="both set lighting"):
+        condition_kwargs(("night", "cloudy"))
