@@ -85,8 +85,10 @@ VAL_PILOTS := score-pilot-val score-pilot-lit-val leaderboard-val-corridor-carri
 	leaderboard-val-$(t)-spot) score-pilot-v3-val
 # seed 000's recognizer with the paper's values (--preset paper), as a user's class
 PAPER := placeclust.online:OnlinePlaceClustering
-V2_TRACKS := $(foreach t,continued changed-night changed-cloudy changed-moved carried corridor \
-	corridor-carried long,runs/v2/$(t)/results.json)
+# the closed loop's tracks (envs.runs.suite.TRACKS), as v2 to v4 run them
+TRACKS := continued changed-night changed-cloudy changed-moved carried corridor \
+	corridor-carried long
+V2_TRACKS := $(foreach t,$(TRACKS),runs/v2/$(t)/results.json)
 # PANORAMA with SIFT and ORB on 24 tours of a split's first 4 scenes: 4, 8, 12 rooms x 2 tour seeds
 SPLIT_TOURS := --preset panorama --algos online --features sift orb --conditions day \
 	--rooms 4 8 12 --tour-seeds 0 1 --steps-per-room 150 --latency-sizes
@@ -187,24 +189,21 @@ leaderboard: $(VENV)/.installed
 # errands to pictures of spots: every built-in, the ceiling and the calibration oracles on
 # every track (5.8 core-hours measured, about 3 hours on 2 cores; PANORAMA is 43% of it:
 # docs/benchmarks.md, "placenav-v3 at full size")
-V3_TRACKS := $(foreach t,continued changed-night changed-cloudy changed-moved carried corridor \
-	corridor-carried long,runs/v3/$(t)/results.json)
+IMAGE_GOALS := oracle-pose oracle oracle-cells:2 oracle-cells:4 oracle-door:1 \
+	oracle-revisit:0.5 panorama panorama-orb nested none random
+IMAGE_PAIRS := --ceiling oracle-pose --pair panorama panorama-orb --pair oracle oracle-cells:2 \
+	--pair nested none
+V3_TRACKS := $(foreach t,$(TRACKS),runs/v3/$(t)/results.json)
 leaderboard-v3: $(VENV)/.installed
-	$(VENV)/bin/placeclust leaderboard --suite placenav-v3 --out runs/v3 --recognizers \
-		oracle-pose oracle oracle-cells:2 oracle-cells:4 oracle-door:1 oracle-revisit:0.5 \
-		panorama panorama-orb nested none random
-	$(VENV)/bin/placeclust score $(V3_TRACKS) --ceiling oracle-pose --pair panorama \
-		panorama-orb --pair oracle oracle-cells:2 --pair nested none
+	$(VENV)/bin/placeclust leaderboard --suite placenav-v3 --out runs/v3 --recognizers $(IMAGE_GOALS)
+	$(VENV)/bin/placeclust score $(V3_TRACKS) $(IMAGE_PAIRS)
 
 # v3 with 15 errands a building, which resolve one place a room on most tracks: the same
 # recognizers (docs/benchmarks.md, "placenav-v4 at full size", gives its cost)
-V4_TRACKS := $(V3_TRACKS:runs/v3/%=runs/v4/%)
+V4_TRACKS := $(foreach t,$(TRACKS),runs/v4/$(t)/results.json)
 leaderboard-v4: $(VENV)/.installed
-	$(VENV)/bin/placeclust leaderboard --suite placenav-v4 --out runs/v4 --recognizers \
-		oracle-pose oracle oracle-cells:2 oracle-cells:4 oracle-door:1 oracle-revisit:0.5 \
-		panorama panorama-orb nested none random
-	$(VENV)/bin/placeclust score $(V4_TRACKS) --ceiling oracle-pose --pair panorama \
-		panorama-orb --pair oracle oracle-cells:2 --pair nested none
+	$(VENV)/bin/placeclust leaderboard --suite placenav-v4 --out runs/v4 --recognizers $(IMAGE_GOALS)
+	$(VENV)/bin/placeclust score $(V4_TRACKS) $(IMAGE_PAIRS)
 
 # the first suite, one set of errands on 60 buildings (55 minutes to 2 hours on 2 cores,
 # by the day)
