@@ -56,5 +56,7 @@ CITED: dict[str, str] = {
     "compare-v3-localize-changed-moved": "design.md: furniture moved, every interval holding 0)…",
     "score-v3-errands15": "design.md: more), and the 12 `test` buildings then resolved six of…",
     "image-stats-matched-rtabmap-train": "design.md: its own is 2.9 pixels at one frame a second…",
+    "like-test-matched-night-moved": "README: query drive is another day's as the corridor's is (…",
+    "like-test-night-moved": "design.md: [0.81, 0.96] above chance (one light: 0.59), and throu…",
     "score-placenav-v3-door": "design.md: can see (true rooms − `oracle-door:0.25` −0.004 [−0.0…",
 }
