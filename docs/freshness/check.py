@@ -113,6 +113,24 @@ def section_commit(name: str, docs: Path = DOCS) -> str | None:
     return found
 
 
+def measured_commit(name: str, entry: dict[str, Any], docs: Path = DOCS) -> str | None:
+    """The newest commit whose code still has section ``name``'s recorded fingerprint, back to
+    :func:`section_commit` (which measured it); None if none has.
+
+    The code of any such commit computes the section as the code that measured it did, by the
+    fingerprint's own premise, and probing the newest one lets the sections a change moved
+    share one checkout of the code before it (their probes' runs are made once a checkout)."""
+    oldest = section_commit(name, docs)
+    if oldest is None:
+        return None
+    log = subprocess.run(["git", "log", "--format=%H", "--ancestry-path", f"{oldest}..HEAD"],
+                         cwd=ROOT, capture_output=True, text=True).stdout.split()
+    for commit in log + [oldest]:  # newest first
+        if fingerprint(entry["trace"], at_commit(commit)) == entry["fingerprint"]:
+            return commit
+    return oldest
+
+
 def status(docs: Path = DOCS, manifest: Path = MANIFEST) -> dict[str, list[str]]:
     """Sections by state: ``current``; ``moved`` (the code it ran changed since, and no probe
     has said whether its figures do); ``differs`` (a probe showed they would:
@@ -196,7 +214,7 @@ def run_verify(names: list[str], docs: Path = DOCS, manifest: Path = MANIFEST,
             data = load(manifest)
             entry = data["sections"][name]
             # recorded --now: measured by the code that committed the section's text with it
-            then = entry.get("commit") or section_commit(name, docs)
+            then = entry.get("commit") or measured_commit(name, entry, docs)
             log(f"[{i}/{len(names)}] {name}: its probe with the code of {(then or '?')[:10]} "
                 "and with today's")
             try:

@@ -5,7 +5,8 @@ changed since it was measured, which says nothing yet about its figures: most ed
 message, a renamed helper, a new option) leave them as they were. :func:`verify` decides by
 measurement instead of by trace: it runs the section's probe (its own command line at a tiny
 size, with the runs that make its inputs, :func:`docs.freshness.probes.probe_runs`) once with
-the code of the commit that wrote the section and once with today's, each writing its tables
+the code that measured it (the newest commit that still has its recorded fingerprint,
+:func:`docs.freshness.check.measured_commit`) and once with today's, each writing its tables
 into a scratch copy of the docs, and compares the two texts with their timings masked
 (:func:`comparable_text`). The same text: the section is current again, today's fingerprint
 recorded with the verdict. Another text: it is stale, and listed as such with the first line

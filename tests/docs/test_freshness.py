@@ -92,7 +92,7 @@ def test_verify_makes_a_moved_table_current_or_lists_it_as_differing(repo_docs, 
     _older(manifest)
     monkeypatch.setattr(freshness.verify, "verdict",
                         lambda name, entry, commands, scratch: (same, "'0.97' → '0.95'"))
-    monkeypatch.setattr(freshness, "section_commit", lambda name, docs: "c0ffee")
+    monkeypatch.setattr(freshness, "measured_commit", lambda name, entry, docs: "c0ffee")
     freshness.run_verify(["table"], docs, manifest, docs.parent / "scratch", log=lambda _: None)
     state = freshness.status(docs, manifest)
     listed = "| table | '0.97' → '0.95' | `placeclust demo --out runs/demo` |" in docs.read_text()
@@ -106,6 +106,22 @@ def test_verify_makes_a_moved_table_current_or_lists_it_as_differing(repo_docs, 
         data["differs"]["table"] = "older"
         freshness.save(data, manifest)
         assert freshness.status(docs, manifest)["moved"] == ["table"]
+
+
+def test_a_moved_section_is_probed_against_the_newest_commit_that_still_measured_it():
+    """Fault caught: probing the old side at the commit that first wrote the section (every
+    section a checkout of its own, each probe run again) or at today's code (the change
+    unseen); a fingerprint no commit has falls back to that first commit."""
+    head = subprocess.run(["git", "rev-parse", "HEAD"], cwd=probes.ROOT, capture_output=True,
+                          text=True).stdout.strip()
+    trace = {"functions": {MODULE: ["interval"]}, "files": []}
+    first = freshness.section_commit("demo")
+    if not head or first in (None, head):
+        pytest.skip("needs the repository's history, with the demo section older than HEAD")
+    at_head = {"trace": trace, "fingerprint": syntax.fingerprint(trace, syntax.at_commit(head))}
+    assert freshness.measured_commit("demo", at_head) == head
+    nowhere = {"trace": trace, "fingerprint": "0" * 16}
+    assert freshness.measured_commit("demo", nowhere) == first
 
 
 def test_timings_are_masked_and_figures_are_not():
