@@ -33,6 +33,7 @@ import json
 import os
 import re
 import shlex
+import shutil
 import subprocess
 import sys
 from collections.abc import Callable
@@ -130,15 +131,39 @@ def probe_text(name: str, commands: dict[str, list[str]], tree: Path, scratch: P
         made = scratch / f"run-{_digest([str(tree), argv])}.done"
         if made.exists() and not last:
             continue
+        jobs = None if last else _out_runs(argv)
+        if jobs is not None:
+            _share_jobs(scratch / "jobs", jobs)
         done = subprocess.run(_command(argv), cwd=tree, env=env, capture_output=True, text=True)
         if done.returncode != 0:
             why = (done.stderr.strip().splitlines() or ["no message"])[-1]
             raise RuntimeError(f"`{shlex.join(run)}` failed in {tree}: {why}")
+        if jobs is not None:
+            _share_jobs(jobs, scratch / "jobs")
         made.touch()
     if not docs.exists():
         raise RuntimeError(f"the probe of {name} wrote no section")
     finished.touch()
     return _in_place(docs.read_text(), scratch)
+
+
+def _out_runs(argv: list[str]) -> Path | None:
+    """The job store of a closed-loop run that makes an input (``--out OUT``: ``OUT/runs``)."""
+    if "leaderboard" not in argv or "--out" not in argv:
+        return None
+    return Path(argv[argv.index("--out") + 1]) / "runs"
+
+
+def _share_jobs(source: Path, target: Path) -> None:
+    """Copy the job results of ``source`` that ``target`` lacks: the stand-ins of one
+    checkout share their recognizers' jobs (a row is used again only if its stamp, the code
+    that made it, is the run's: :func:`envs.runs.jobs.run_jobs`), so each stand-in runs only
+    the recognizers it adds. One folder per checkout: today's jobs never answer for the old
+    code's."""
+    target.mkdir(parents=True, exist_ok=True)
+    for row in source.glob("*.json"):
+        if not (target / row.name).exists():
+            shutil.copyfile(row, target / row.name)
 
 
 def _digest(what: object) -> str:

@@ -124,6 +124,24 @@ def test_a_moved_section_is_probed_against_the_newest_commit_that_still_measured
     assert freshness.measured_commit("demo", nowhere) == first
 
 
+def test_a_checkouts_stand_ins_share_their_jobs_and_keep_their_own(tmp_path):
+    """Fault caught: a stand-in's own job overwritten by another's (a run's rows must be the
+    ones its store holds), or only closed-loop runs that write no store given one."""
+    from docs.freshness import verify
+
+    pool, runs = tmp_path / "jobs", tmp_path / "stand-in" / "runs"
+    pool.mkdir()
+    (pool / "panorama-a.json").write_text("pool")
+    (pool / "oracle-a.json").write_text("pool")
+    runs.mkdir(parents=True)
+    (runs / "oracle-a.json").write_text("own")
+    verify._share_jobs(pool, runs)
+    assert (runs / "panorama-a.json").read_text() == "pool"
+    assert (runs / "oracle-a.json").read_text() == "own"
+    assert verify._out_runs(["placeclust", "leaderboard", "--out", "x"]) == Path("x/runs")
+    assert verify._out_runs(["placeclust", "score", "x/results.json"]) is None
+
+
 def test_timings_are_masked_and_figures_are_not():
     from docs.freshness.verify import comparable_text
 
