@@ -115,7 +115,8 @@ def section_commit(name: str, docs: Path = DOCS) -> str | None:
 
 def measured_commit(name: str, entry: dict[str, Any], docs: Path = DOCS) -> str | None:
     """The newest commit whose code still has section ``name``'s recorded fingerprint, back to
-    :func:`section_commit` (which measured it); None if none has.
+    :func:`section_commit` (which measured it), that one if none has; None if no commit holds
+    the section.
 
     The code of any such commit computes the section as the code that measured it did, by the
     fingerprint's own premise, and probing the newest one lets the sections a change moved

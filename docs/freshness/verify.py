@@ -149,9 +149,8 @@ def probe_text(name: str, commands: dict[str, list[str]], tree: Path, scratch: P
 
 def _out_runs(argv: list[str]) -> Path | None:
     """The job store of a closed-loop run that makes an input (``--out OUT``: ``OUT/runs``)."""
-    if "leaderboard" not in argv or "--out" not in argv:
-        return None
-    return Path(argv[argv.index("--out") + 1]) / "runs"
+    out = probes.out_dir(argv) if argv[1:2] == ["leaderboard"] else None
+    return None if out is None else Path(out) / "runs"
 
 
 def _share_jobs(source: Path, target: Path) -> None:
