@@ -47,8 +47,10 @@ def _strip_help(tree: ast.AST) -> None:
             node.keywords = [k for k in node.keywords if k.arg != "help"]
 
 
+@functools.lru_cache(maxsize=1024)
 def _definitions(tree: ast.Module) -> dict[str, ast.AST]:
-    """Every function of a module by its ``__qualname__`` (``Cls.method``, ``f.<locals>.g``)."""
+    """Every function of a module by its ``__qualname__`` (``Cls.method``, ``f.<locals>.g``);
+    cached like :func:`_parse`, whose trees it is given (callers must not edit the result)."""
     found: dict[str, ast.AST] = {}
 
     def visit(node: ast.AST, prefix: str) -> None:
@@ -184,11 +186,26 @@ def _digests(trees: dict[str, ast.Module | None], functions: dict[str, list[str]
                         grew = True
     out = {}
     for path in trees:  # a missing module is an empty one: its functions are missing
-        parts = [ast.unparse(found[path][q]) if q in found[path] else f"missing {q}"
+        parts = [_unparse(found[path][q]) if q in found[path] else f"missing {q}"
                  for q in sorted(functions.get(path, []))]
-        parts += [ast.unparse(s) for s in reached[path]]
+        parts += [_unparse(s) for s in reached[path]]
         out[path] = hashlib.sha256("\n\0".join(parts).encode()).hexdigest()[:16]
     return out
+
+
+@functools.lru_cache(maxsize=4096)
+def _digests_of(trees: tuple[tuple[str, ast.Module | None], ...],
+                functions: tuple[tuple[str, tuple[str, ...]], ...]) -> dict[str, str]:
+    """:func:`_digests` of hashable arguments, cached: the same sources (the same cached trees)
+    traced for the same functions digest alike at every commit that did not change them."""
+    return _digests(dict(trees), {p: list(q) for p, q in functions})
+
+
+@functools.lru_cache(maxsize=65536)
+def _unparse(node: ast.AST) -> str:
+    """``ast.unparse``, cached by node: the cached trees' nodes are the same objects each
+    time the same source is read, at any commit."""
+    return ast.unparse(node)
 
 
 def source_digest(source: str | None, qualnames: list[str]) -> str:
@@ -214,11 +231,21 @@ def working_tree(path: str) -> bytes | None:
 
 
 def at_commit(commit: str) -> Reader:
-    """A reader of repository files as they were at ``commit``."""
-    def read(path: str) -> bytes | None:
-        done = subprocess.run(["git", "show", f"{commit}:{path}"], cwd=ROOT, capture_output=True)
-        return done.stdout if done.returncode == 0 else None
-    return read
+    """A reader of repository files as they were at ``commit`` (a hash or any ref, resolved
+    once: a branch that moves later does not change what this reader reads)."""
+    done = subprocess.run(["git", "rev-parse", "--verify", "--quiet", f"{commit}^{{commit}}"],
+                          cwd=ROOT, capture_output=True, text=True)
+    resolved = done.stdout.strip() if done.returncode == 0 else commit
+    return functools.partial(_show, resolved)
+
+
+@functools.lru_cache(maxsize=8192)
+def _show(commit: str, path: str) -> bytes | None:
+    """``path`` at ``commit``, or None where it did not exist. Cached, because a commit's
+    files never change and probing which commit measured a section reads the same files at
+    the same commits for every section."""
+    done = subprocess.run(["git", "show", f"{commit}:{path}"], cwd=ROOT, capture_output=True)
+    return done.stdout if done.returncode == 0 else None
 
 
 def fingerprint(trace: dict[str, Any], read: Reader = working_tree) -> str:
@@ -227,7 +254,9 @@ def fingerprint(trace: dict[str, Any], read: Reader = working_tree) -> str:
     texts = {p: read(p) for p in trace["functions"]}
     trees = {p: None if t is None else _parse(t.decode()) for p, t in texts.items()}
     digest = hashlib.sha256()
-    for path, value in sorted(_digests(trees, trace["functions"]).items()):
+    digests = _digests_of(tuple(sorted(trees.items())),
+                          tuple((p, tuple(q)) for p, q in sorted(trace["functions"].items())))
+    for path, value in sorted(digests.items()):
         digest.update(f"{path}:{value}\n".encode())
     for path in sorted(trace["files"]):
         data = read(path)

@@ -37,6 +37,23 @@ def test_docstrings_comments_and_layout_do_not_count_code_and_constants_do():
     assert syntax.source_digest(None, []) == syntax.source_digest("import os\nX = 1\n", [])
 
 
+def test_a_fingerprint_follows_the_sources_it_reads_through_its_caches():
+    """Fault caught: a memo keyed by path or by commit name alone (a file changed between two
+    commits, or a branch that moved, read as its first version)."""
+    code = "X = 1\n\ndef f(a):\n    return a + X\n"
+    trace = {"functions": {"m.py": ["f"]}, "files": []}
+    first = syntax.fingerprint(trace, {"m.py": code.encode()}.get)
+    changed = syntax.fingerprint(trace, {"m.py": code.replace("X = 1", "X = 2").encode()}.get)
+    assert changed != first
+    assert syntax.fingerprint(trace, {"m.py": code.encode()}.get) == first
+    head = subprocess.run(["git", "rev-parse", "HEAD"], cwd=probes.ROOT, capture_output=True,
+                          text=True).stdout.strip()
+    if not head:
+        pytest.skip("needs the repository's history")
+    assert syntax.at_commit("HEAD").args == (head,)  # a ref is read as the commit it named
+    assert syntax.at_commit("HEAD")("pyproject.toml") == syntax.at_commit(head)("pyproject.toml")
+
+
 def test_the_tracer_sees_the_repository_functions_that_ran_and_the_files_read():
     from placeclust import stats
 
