@@ -24,20 +24,30 @@ def test_cluster_cli_writes_consistent_metrics(tmp_path, two_places):
         metrics)
 
 
-def test_cluster_cli_names_bad_input(tmp_path):
-    def cli(*args):
-        return subprocess.run([sys.executable, "-m", "envs.commands.cli", "cluster", *args,
-                               "--out", str(tmp_path / "o")], capture_output=True, text=True)
+def refused(capsys, *args: str) -> tuple[int, str]:
+    """``placeclust ARGS`` run in this process, as the command line would end it: its exit
+    status and what it wrote to stderr (a ``SystemExit`` message is printed there, status 1).
+    In-process, because each interpreter started for the command costs seconds of imports."""
+    capsys.readouterr()
+    with pytest.raises(SystemExit) as done:
+        main(list(args))
+    code, err = done.value.code, capsys.readouterr().err
+    if isinstance(code, str):
+        return 1, err + code
+    return code or 0, err
 
-    missing = cli("--tour", str(tmp_path / "nope.npz"))
-    assert missing.returncode != 0 and "does not exist" in missing.stderr
+
+def test_cluster_cli_names_bad_input(tmp_path, capsys):
+    out = ("--out", str(tmp_path / "o"))
+    code, err = refused(capsys, "cluster", "--tour", str(tmp_path / "nope.npz"), *out)
+    assert code != 0 and "does not exist" in err
     np.savez(tmp_path / "bad.npz", frames=np.zeros((3, 8)), room=np.zeros(3))
-    bad = cli("--tour", str(tmp_path / "bad.npz"))
-    assert bad.returncode != 0 and "'frames' must be uint8" in bad.stderr
+    code, err = refused(capsys, "cluster", "--tour", str(tmp_path / "bad.npz"), *out)
+    assert code != 0 and "'frames' must be uint8" in err
     assert not (tmp_path / "o").exists()
 
 
-def test_bad_input_leaves_earlier_results_alone(tmp_path, two_places):
+def test_bad_input_leaves_earlier_results_alone(tmp_path, two_places, capsys):
     """A failed run names the problem, exits non-zero and keeps what an earlier run wrote."""
     out = tmp_path / "res"
     out.mkdir()
@@ -47,24 +57,21 @@ def test_bad_input_leaves_earlier_results_alone(tmp_path, two_places):
     np.savez(tmp_path / "short.npz", frames=frames, room=truth[:-1])
     np.savez(tmp_path / "noroom.npz", frames=frames)
 
-    def cli(*args):
-        return subprocess.run([sys.executable, "-m", "envs.commands.cli", *args],
-                              capture_output=True, text=True)
-
     for args, message in [
         (("cluster", "--tour", str(tmp_path / "short.npz")), "'room' has shape"),
         (("cluster", "--tour", str(tmp_path / "noroom.npz")), "no 'room' array"),
         (("cluster", "--tour", str(tmp_path / "short.npz"), "--features", "surf64"),
          "invalid choice"),
     ]:
-        proc = cli(*args, "--out", str(out))
-        assert proc.returncode != 0 and message in proc.stderr, (args, proc.stderr)
+        code, err = refused(capsys, *args, "--out", str(out))
+        assert code != 0 and message in err, (args, err)
     assert (out / "metrics.json").read_text() == '{"precision": 0.9}'
     assert np.array_equal(np.load(out / "assignments.npy"), np.arange(3))
-    demo = cli("demo", "--steps", "-1", "--out", str(tmp_path / "d"))
-    assert demo.returncode != 0 and "steps must be positive" in demo.stderr
-    bench = cli("bench", "--quick", "--workers", "-2", "--out", str(tmp_path / "b"))
-    assert bench.returncode != 0 and "--workers" in bench.stderr
+    code, err = refused(capsys, "demo", "--steps", "-1", "--out", str(tmp_path / "d"))
+    assert code != 0 and "steps must be positive" in err
+    code, err = refused(capsys, "bench", "--quick", "--workers", "-2", "--out",
+                        str(tmp_path / "b"))
+    assert code != 0 and "--workers" in err
     assert not (tmp_path / "b").exists()
 
 
