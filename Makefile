@@ -200,9 +200,9 @@ leaderboard-v3: $(VENV)/.installed
 
 # v3 with 15 errands a building, which resolve one place a room on most tracks: every built-in,
 # the ceiling, true rooms and compact cells (the two error models were told from the ceiling on
-# every v3 track; more errands only narrow that). docs/benchmarks.md, "placenav-v4 at full
-# size", gives its cost. About 12 core-hours, more than a session, so its store is kept in the
-# repository (docs/runs/placenav-v4): a run resumes from the jobs it holds
+# every v3 track; more errands only narrow that). 5.2 core-hours by its rows, 2 h 42 min of 2
+# cores by the wall (docs/benchmarks.md, "placenav-v4 at full size"), so its store is kept in
+# the repository (docs/runs/placenav-v4): a run reuses the jobs it holds and runs the rest
 V4_OUT := docs/runs/placenav-v4
 V4_TRACKS := $(foreach t,$(TRACKS),$(V4_OUT)/$(t)/results.json)
 leaderboard-v4: $(VENV)/.installed
