@@ -330,10 +330,34 @@ def physics_fingerprint() -> str:
     return digest.hexdigest()[:16]
 
 
+#: the CPU flags recorded beside a render fingerprint: two machines alike in Mesa, LLVM and
+#: MuJoCo drew different pixels of the same building at the same commit, so what the GL
+#: strings leave out (the CPU that runs llvmpipe, MuJoCo and the texture maths) is recorded
+CPU_FLAGS = ("sse4_2", "avx", "avx2", "fma", "avx512f", "avx512vl", "avx512bw")
+
+
+def cpu_info() -> str:
+    """The CPU's model name and which of :data:`CPU_FLAGS` it has (``/proc/cpuinfo``), or
+    :func:`platform.processor` where that file is absent.
+
+    >>> isinstance(cpu_info(), str)
+    True
+    """
+    cpuinfo = Path("/proc/cpuinfo")
+    if not cpuinfo.is_file():
+        return platform.processor() or platform.machine()
+    fields: dict[str, str] = {}
+    for line in cpuinfo.read_text().splitlines():  # the first CPU's lines hold for all
+        key, _, value = line.partition(":")
+        fields.setdefault(key.strip(), value.strip())
+    flags = set(fields.get("flags", "").split())
+    return f"{fields.get('model name', '')}; " + " ".join(f for f in CPU_FLAGS if f in flags)
+
+
 def renderer_info() -> dict[str, str]:
     """What draws the pixels here: OpenGL's version and renderer strings (Mesa's version and
-    llvmpipe on a CPU machine) and MuJoCo's version. A stored render fingerprint holds for
-    these (``tests/envs/world/render_reference.json``)."""
+    llvmpipe on a CPU machine), MuJoCo's version and the CPU (:func:`cpu_info`). A stored
+    render fingerprint holds for these (``tests/envs/world/render_reference.json``)."""
     import mujoco
     from OpenGL import GL
 
@@ -344,7 +368,7 @@ def renderer_info() -> dict[str, str]:
         context.make_current()
         return {"gl_version": GL.glGetString(GL.GL_VERSION).decode(),
                 "gl_renderer": GL.glGetString(GL.GL_RENDERER).decode(),
-                "mujoco": mujoco.__version__}
+                "mujoco": mujoco.__version__, "cpu": cpu_info()}
     finally:
         context.free()
 

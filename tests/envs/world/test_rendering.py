@@ -133,9 +133,10 @@ def test_a_wall_the_robot_stands_against_is_not_see_through(make_env):
 
 
 def test_the_renderer_draws_the_stored_reference_pixels():
-    """The render fingerprint of the reference frames, stored with what drew them: on the same
-    Mesa and MuJoCo a change that moves one pixel of a benchmark's worlds fails here (and is
-    then a new reference, and a new suite version's business)."""
+    """The render fingerprint of the reference frames, stored with what drew them: on a machine
+    like one that drew a stored reference (Mesa, MuJoCo and CPU), a change that moves one pixel
+    of a benchmark's worlds fails here (and is then a new reference, and a new suite version's
+    business). A machine like none of them skips, naming what it has."""
     import json
     from pathlib import Path
 
@@ -143,10 +144,10 @@ def test_the_renderer_draws_the_stored_reference_pixels():
 
     stored = json.loads((Path(__file__).parent / "render_reference.json").read_text())
     here = renderer_info()
-    drawn_by = {k: stored[k] for k in here}
-    if here != drawn_by:
-        pytest.skip(f"the reference was drawn by {drawn_by}; this machine has {here}")
-    assert render_fingerprint() == stored["render_fingerprint"]
+    alike = [ref for ref in stored["references"] if all(ref[k] == v for k, v in here.items())]
+    if not alike:
+        pytest.skip(f"no stored reference was drawn by a machine like this one ({here})")
+    assert render_fingerprint() in {ref["render_fingerprint"] for ref in alike}
 
 
 def test_the_simulator_drives_the_stored_reference_path():
