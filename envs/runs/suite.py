@@ -332,7 +332,8 @@ def physics_fingerprint() -> str:
 
 #: the CPU flags recorded beside a render fingerprint: two machines alike in Mesa, LLVM and
 #: MuJoCo drew different pixels of the same building at the same commit, so what the GL
-#: strings leave out (the CPU that runs llvmpipe, MuJoCo and the texture maths) is recorded
+#: strings leave out, the likeliest (the CPU that runs llvmpipe, MuJoCo and the texture
+#: maths) is recorded; the cause is not pinned down
 CPU_FLAGS = ("sse4_2", "avx", "avx2", "fma", "avx512f", "avx512vl", "avx512bw")
 
 
