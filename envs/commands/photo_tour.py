@@ -1,0 +1,140 @@
+"""``python -m envs.commands.photo_tour``: a forward-camera tour of a building whose surfaces
+have photographic statistics (:func:`envs.tasks.photo_textures.retexture`), for
+``placeclust stats``.
+
+It measures the texture lever of issue 72 the way ``placeclust tour --camera forward`` measured
+the sensor levers (``docs/benchmarks.md``, "Textures with photographic statistics"): the same
+route, camera and sensor, the building retextured before its first frame. ``PlaceNav-v0``
+itself renders as before; this is a lever under measurement, not a world option yet.
+
+Example (about a minute)::
+
+    python -m envs.commands.photo_tour --scene-seed 0 --steps 400 --width 160 --height 120 \\
+        --fov 60 --detail 0.35 --out runs/photo/corridor-s0
+    placeclust stats --images ../shared/data/vpr-bench-corridor \\
+        --tour runs/photo/corridor-s0/tour.npz
+    python -m envs.commands.photo_tour --cost     # its render cost, as ratios
+"""
+
+from __future__ import annotations
+
+import sys
+import time
+from pathlib import Path
+from typing import cast
+
+import gymnasium as gym
+import numpy as np
+
+from placeclust.argparsing import ArgumentParser
+
+from ..tasks.camera_sensor import CameraSensor
+from ..tasks.photo_textures import Photo, retexture
+from ..tasks.place_nav import PlaceNavEnv
+from ..tasks.tour import drive_tour
+from ..world.scene import build_scene
+from ..world.sensor import Sensor
+
+
+def build_parser() -> ArgumentParser:
+    """The command's options: a tour's building and camera, and the :class:`Photo` settings."""
+    p = ArgumentParser(prog="python -m envs.commands.photo_tour", description=__doc__)
+    p.add_argument("--scene-seed", type=int, default=0)
+    p.add_argument("--rooms", type=int, default=4)
+    p.add_argument("--steps", type=int, default=400)
+    p.add_argument("--seed", type=int, default=0, help="start pose and route")
+    p.add_argument("--width", type=int, default=160)
+    p.add_argument("--height", type=int, default=120)
+    p.add_argument("--fov", type=float, default=60.0, help="horizontal field of view, degrees")
+    p.add_argument("--sensor", nargs="+", metavar="NAME=VALUE",
+                   help="a real camera's effects, as placeclust tour's --sensor")
+    p.add_argument("--detail", type=float, default=Photo.detail)
+    p.add_argument("--grain", type=float, default=Photo.grain)
+    p.add_argument("--stains", type=int, default=Photo.stains)
+    p.add_argument("--out", help="folder for tour.npz")
+    p.add_argument("--cost", action="store_true",
+                   help="instead of a tour, print what the lever costs (cost_ratios)")
+    return p
+
+
+def _nav(env: gym.Env) -> PlaceNavEnv:
+    return cast(PlaceNavEnv, env.unwrapped)
+
+
+def _step_time(photo: Photo | None, width: int, height: int, fov: float, steps: int = 60
+               ) -> float:
+    env = gym.make("PlaceNav-v0", scene_seed=0, n_rooms=4, camera="forward", image_width=width,
+                   image_height=height, image_fov=fov, max_episode_steps=None)
+    if photo is not None:
+        retexture(_nav(env).model, 0, photo)
+    env.reset(seed=0)
+    rng = np.random.default_rng(0)
+    for _ in range(10):  # warm: the first frames upload the textures
+        env.step(rng.uniform(-1, 1, 2))
+    start = time.perf_counter()
+    for _ in range(steps):
+        env.step(rng.uniform(-1, 1, 2))
+    env.close()
+    return (time.perf_counter() - start) / steps
+
+
+def cost_ratios(photo: Photo, sizes: tuple[tuple[int, int], ...] = ((160, 120), (512, 384)),
+                rounds: int = 5, fov: float = 60.0) -> dict[str, float]:
+    """What the lever costs, as ratios against its floor in the same run (medians over
+    ``rounds``): :func:`retexture` against the :func:`build_scene` it follows (once a building),
+    and ``env.step`` of a retextured building against a plain one, per forward image size."""
+    once = []
+    for seed in range(rounds):
+        start = time.perf_counter()
+        scene = build_scene(seed, 4)
+        built = time.perf_counter()
+        retexture(scene.model, seed, photo)
+        once.append((time.perf_counter() - built) / (built - start))
+    ratios = {"retexture / build_scene": float(np.median(once))}
+    for w, h in sizes:
+        ratios[f"env.step {w}x{h}, photo / plain"] = float(np.median(
+            [_step_time(photo, w, h, fov) / _step_time(None, w, h, fov) for _ in range(rounds)]))
+    return ratios
+
+
+def main(argv: list[str] | None = None) -> int:
+    """Record the tour (or, with ``--cost``, time the lever); 0 on success, 2 (one line) on a
+    bad setting."""
+    args = build_parser().parse_args(argv)
+    try:
+        if args.steps < 1 or args.rooms < 2:
+            raise ValueError(f"need --steps ≥ 1 and --rooms ≥ 2, got {args.steps}, {args.rooms}")
+        photo = Photo(args.detail, args.grain, args.stains)
+        if args.cost:
+            for name, ratio in cost_ratios(photo).items():
+                print(f"{name}: {ratio:.2f}")
+            return 0
+        if not args.out:
+            raise ValueError("--out FOLDER is needed for a tour")
+        sensor = Sensor.parse(args.sensor)
+        env: gym.Env = gym.make("PlaceNav-v0", scene_seed=args.scene_seed, n_rooms=args.rooms,
+                                camera="forward", image_width=args.width,
+                                image_height=args.height, image_fov=args.fov,
+                                max_episode_steps=None)
+    except ValueError as e:
+        print(f"error: {e}", file=sys.stderr)
+        return 2
+    retexture(_nav(env).model, args.scene_seed, photo)  # before the first frame is drawn
+    if sensor.active:
+        env = CameraSensor(env, sensor)
+    try:
+        tour = drive_tour(env, args.steps, seed=args.seed)
+    finally:
+        env.close()
+    out = Path(args.out)
+    out.mkdir(parents=True, exist_ok=True)
+    tour.save(str(out / "tour.npz"), scene_seed=args.scene_seed, tour_seed=args.seed,
+              lighting="day", camera="forward")
+    print(f"wrote {out / 'tour.npz'} ({args.steps} frames, scene {args.scene_seed}, {photo})")
+    return 0
+
+
+if __name__ == "__main__":
+    import envs  # noqa: F401  (registers PlaceNav-v0)
+
+    sys.exit(main())
