@@ -14,7 +14,8 @@ and furniture those statistics, in place, before anything is drawn:
 Posters stay as they are: they are the printed, distinctive things a real room has too.
 Nothing calls it by default, so a building without it renders as before. It lives beside the
 tasks, not in :mod:`envs.world`, because it edits a compiled model as the camera wrapper of
-:mod:`envs.tasks.camera_sensor` edits frames: the world's code and fingerprint stay as they were.
+:mod:`envs.tasks.camera_sensor` edits frames: the world's code stays as it was, and a
+default ``PlaceNav-v0`` keeps its render fingerprint.
 
 Examples:
     >>> from envs.world.scene import build_scene
