@@ -129,7 +129,8 @@ def main(argv: list[str] | None = None) -> int:
     out = Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
     tour.save(str(out / "tour.npz"), scene_seed=args.scene_seed, tour_seed=args.seed,
-              lighting="day", camera="forward")
+              lighting="day", camera="forward",  # a photo tour says so in its file
+              textures=f"photo detail={photo.detail} grain={photo.grain} stains={photo.stains}")
     print(f"wrote {out / 'tour.npz'} ({args.steps} frames, scene {args.scene_seed}, {photo})")
     return 0
 

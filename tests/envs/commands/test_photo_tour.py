@@ -14,6 +14,7 @@ def test_a_tour_of_the_retextured_building(tmp_path):
     with (np.load(tmp_path / "photo" / "tour.npz") as p,
           np.load(tmp_path / "plain" / "tour.npz") as q):
         assert p["frames"].shape == (4, 48, 64, 3) and str(p["camera"]) == "forward"
+        assert str(p["textures"]) == "photo detail=0.35 grain=0.12 stains=6"
         assert np.array_equal(p["pose"], q["pose"])  # the same route: only the surfaces differ
         assert np.abs(p["frames"].astype(int) - q["frames"]).mean() > 1
 
