@@ -34,6 +34,7 @@ from ..tasks.place_nav import PlaceNavEnv
 from ..tasks.tour import drive_tour
 from ..world.scene import build_scene
 from ..world.sensor import Sensor
+from .speed import _interleaved, _stepper, ratio
 
 
 def build_parser() -> ArgumentParser:
@@ -61,28 +62,12 @@ def _nav(env: gym.Env) -> PlaceNavEnv:
     return cast(PlaceNavEnv, env.unwrapped)
 
 
-def _step_time(photo: Photo | None, width: int, height: int, fov: float, steps: int = 60
-               ) -> float:
-    env = gym.make("PlaceNav-v0", scene_seed=0, n_rooms=4, camera="forward", image_width=width,
-                   image_height=height, image_fov=fov, max_episode_steps=None)
-    if photo is not None:
-        retexture(_nav(env).model, 0, photo)
-    env.reset(seed=0)
-    rng = np.random.default_rng(0)
-    for _ in range(10):  # warm: the first frames upload the textures
-        env.step(rng.uniform(-1, 1, 2))
-    start = time.perf_counter()
-    for _ in range(steps):
-        env.step(rng.uniform(-1, 1, 2))
-    env.close()
-    return (time.perf_counter() - start) / steps
-
-
 def cost_ratios(photo: Photo, sizes: tuple[tuple[int, int], ...] = ((160, 120), (512, 384)),
-                rounds: int = 5, fov: float = 60.0) -> dict[str, float]:
+                rounds: int = 5, steps: int = 60, fov: float = 60.0) -> dict[str, float]:
     """What the lever costs, as ratios against its floor in the same run (medians over
     ``rounds``): :func:`retexture` against the :func:`build_scene` it follows (once a building),
-    and ``env.step`` of a retextured building against a plain one, per forward image size."""
+    and ``env.step`` of a retextured building against a plain one, per forward image size,
+    taken in turn each round as ``placeclust speed`` takes its runs."""
     once = []
     for seed in range(rounds):
         start = time.perf_counter()
@@ -92,8 +77,17 @@ def cost_ratios(photo: Photo, sizes: tuple[tuple[int, int], ...] = ((160, 120), 
         once.append((time.perf_counter() - built) / (built - start))
     ratios = {"retexture / build_scene": float(np.median(once))}
     for w, h in sizes:
-        ratios[f"env.step {w}x{h}, photo / plain"] = float(np.median(
-            [_step_time(photo, w, h, fov) / _step_time(None, w, h, fov) for _ in range(rounds)]))
+        pair = {name: gym.make("PlaceNav-v0", scene_seed=0, n_rooms=4, camera="forward",
+                               image_width=w, image_height=h, image_fov=fov,
+                               max_episode_steps=None) for name in ("plain", "photo")}
+        retexture(_nav(pair["photo"]).model, 0, photo)  # before _stepper's reset draws
+        try:
+            times = _interleaved({name: _stepper(env) for name, env in pair.items()}, steps,
+                                 rounds)
+        finally:
+            for env in pair.values():
+                env.close()
+        ratios[f"env.step {w}x{h}, photo / plain"] = ratio(times, "photo", "plain")
     return ratios
 
 
