@@ -182,17 +182,22 @@ class RealScore:
         return np.array([self.score_of(m, idx) for m in methods])
 
 
+def _estimate(point: float, draws: np.ndarray, n: int, confidence: float) -> Estimate:
+    """``point`` with the percentile interval of its finite bootstrap ``draws``."""
+    tail = (1 - confidence) / 2 * 100
+    draws = draws[np.isfinite(draws)]
+    if not draws.size or not math.isfinite(point):
+        return Estimate(point, math.nan, math.nan, n, confidence)
+    low, high = np.percentile(draws, [tail, 100 - tail])
+    return Estimate(point, float(min(low, point)), float(max(high, point)), n, confidence)
+
+
 def _compare(methods: tuple[str, ...], sim_means: np.ndarray, sim_draws: np.ndarray,
              real_means: np.ndarray, real_draws: np.ndarray, confidence: float) -> Transfer:
     """The :class:`Transfer` of both sides' points and ``(resamples, methods)`` draws."""
-    tail = (1 - confidence) / 2 * 100
 
     def estimate(point: float, draws: np.ndarray, n: int) -> Estimate:
-        draws = draws[np.isfinite(draws)]
-        if not draws.size or not math.isfinite(point):
-            return Estimate(point, math.nan, math.nan, n, confidence)
-        low, high = np.percentile(draws, [tail, 100 - tail])
-        return Estimate(point, float(min(low, point)), float(max(high, point)), n, confidence)
+        return _estimate(point, draws, n, confidence)
 
     pairs = list(itertools.combinations(range(len(methods)), 2))
     rho = math.nan if len(methods) < 3 else float(_spearman(sim_means, real_means))
@@ -213,3 +218,65 @@ def _compare(methods: tuple[str, ...], sim_means: np.ndarray, sim_draws: np.ndar
                     estimate(agree_share, agree_draws, len(pairs)),
                     tuple(estimate(float(real_means[k]), real_draws[:, k], 1)
                           for k in range(len(methods))))
+
+
+def transfer_difference(sim_a: Mapping[str, Sequence[float]],
+                        sim_b: Mapping[str, Sequence[float]],
+                        real: Mapping[str, Sequence[float]] | RealScore,
+                        block: int = BLOCK, confidence: float = CONFIDENCE,
+                        n_resamples: int = 2000, seed: int = 0) -> tuple[Estimate, Estimate]:
+    """How much better simulator ``a`` ranks the methods than simulator ``b`` (a lever on
+    against off), paired: each draw resamples the same buildings for both (a building is
+    the unit drawn, the same building with and without the lever) and one real draw.
+
+    Args:
+        sim_a, sim_b: per method, its score on each simulated building, both on the same
+            buildings in the same order (as :func:`rank_transfer`'s ``sim``).
+        real: the real side, as :func:`rank_transfer`'s.
+        block, confidence, n_resamples, seed: the bootstrap.
+
+    Returns:
+        Spearman's rho of ``a`` minus that of ``b``, and the share of pairs ordered alike of
+        ``a`` minus ``b``'s, each with its paired interval (one excluding 0 decides).
+
+    Raises:
+        ValueError: the sides name other methods or other numbers of buildings.
+
+    Examples:
+        >>> from placeclust.transfer import transfer_difference
+        >>> real = {"a": [1, 1, 1, 0] * 5, "b": [1, 0, 1, 0] * 5, "c": [0, 0, 0, 1] * 5}
+        >>> right = {"a": [0.9, 0.8], "b": [0.6, 0.5], "c": [0.3, 0.2]}
+        >>> wrong = {"a": [0.3, 0.2], "b": [0.6, 0.5], "c": [0.9, 0.8]}
+        >>> rho, pairs = transfer_difference(right, wrong, real, block=2)
+        >>> round(rho.mean, 2), round(pairs.mean, 2)
+        (2.0, 1.0)
+    """
+    if not isinstance(real, RealScore):
+        real = RealScore.of_means(real)
+    methods = tuple(sim_a)
+    if not (set(methods) == set(sim_b) == set(real.methods)):
+        raise ValueError(f"both simulators and the data must score the same methods: "
+                         f"{sorted(sim_a)}, {sorted(sim_b)}, {sorted(real.methods)}")
+    a, b = (np.array([np.asarray(sim[m], float) for m in methods]).T for sim in (sim_a, sim_b))
+    if a.shape != b.shape or a.ndim != 2 or not len(a):
+        raise ValueError(f"both simulators need every method on the same buildings, got "
+                         f"{a.shape} and {b.shape} (buildings, methods)")
+    rng = np.random.default_rng(seed)
+    idx = rng.integers(0, len(a), (n_resamples, len(a)))
+    real_draws = np.array([real.score(methods, block_resample(real.n_units, block, rng))
+                           for _ in range(n_resamples)])
+    real_means = real.score(methods, np.arange(real.n_units))
+    pairs = list(itertools.combinations(range(len(methods)), 2))
+
+    def rho(sim: np.ndarray, on_real: np.ndarray) -> np.ndarray:
+        return _spearman(sim, on_real)
+
+    def alike(sim: np.ndarray, on_real: np.ndarray) -> np.ndarray:
+        return _agreement(sim, on_real, pairs).mean(axis=-1)
+
+    out = []
+    for stat in (rho, alike):
+        point = float(stat(a.mean(axis=0), real_means) - stat(b.mean(axis=0), real_means))
+        draws = stat(a[idx].mean(axis=1), real_draws) - stat(b[idx].mean(axis=1), real_draws)
+        out.append(_estimate(point, draws, len(a), confidence))
+    return out[0], out[1]

@@ -3,11 +3,13 @@ data set's camera, and whether it ranks recognizers as the data does.
 
     placeclust like ../shared/data/vpr-bench-corridor --split val [--sensor grey=1 jpeg=75]
     placeclust like ../shared/data/vpr-bench-corridor --split val \
-        --camera-file assets/cameras/vpr-bench-corridor.json
+        --camera-file assets/cameras/vpr-bench-corridor.json [--textures photo]
 
 The camera is the data set's (:func:`placeclust.camera.camera_of`): its image size and colour,
 and the field of view and sensor effects its ``camera.json`` states, or a camera file named by
 ``--camera-file`` for a data set you cannot write to; ``--sensor`` overrides single effects.
+``--textures photo`` gives each simulated building's surfaces photographic statistics
+(:mod:`envs.tasks.photo_textures`) before its first frame: a realism lever, not a camera.
 
 The measuring is :mod:`envs.runs.sim2real`'s (how a building is made like the data set, what
 is kept); this module parses the command and writes the report: both sides' score per
@@ -21,6 +23,7 @@ and the image statistics side by side.
 from __future__ import annotations
 
 import argparse
+import json
 import math
 import os
 import shlex
@@ -35,14 +38,23 @@ from placeclust.camera import CAMERA_FILE, camera_of, sensor_of
 from placeclust.docs_section import write_section
 from placeclust.imagestats import revisit_table, stats_table
 from placeclust.metrics import nmi
+from placeclust.progress import plural
 from placeclust.runner import ALGORITHMS, preset_params
 from placeclust.stats import Estimate, interval
-from placeclust.transfer import BLOCK, RealScore, Transfer, rank_transfer
+from placeclust.transfer import (
+    BLOCK,
+    RealScore,
+    Transfer,
+    rank_transfer,
+    transfer_difference,
+)
 from placeclust.vprbench import above_chance
 
+from ..agents.lap import MAX_OFFSET
 from ..runs.sim2real import (
     ALGOS,
     FEATURES,
+    QUERY_ROUTES,
     QUESTIONS,
     Matched,
     condition_kwargs,
@@ -50,6 +62,7 @@ from ..runs.sim2real import (
     question_of,
     run_matched,
 )
+from ..tasks.photo_textures import Photo
 from ..world.conditions import CONDITIONS
 from ..world.layout import room_count
 from ..world.sensor import Sensor
@@ -112,14 +125,25 @@ def _question(m: Matched) -> str:
     if m.question == "images":
         return ("one drive of the tour, clustered; NMI against its rooms, as the folder's "
                 "against its labels (`placeclust.realdata.cluster_folder`)")
-    drives = ("the two halves of one tour under one light" if not m.query_conditions else
-              f"the two halves of one tour, the query half driven again under "
-              f"`{' + '.join(m.query_conditions)}`")
+    if m.query_route == "lap":
+        drives, query = (f"a drive of the tour and the same path driven again up to "
+                         f"{MAX_OFFSET:g} m to one side (a second lap, `envs.agents.lap`)",
+                         "lap")
+    else:
+        drives, query = "the two halves of one tour", "half driven again"
+    drives += (" under one light" if not m.query_conditions else
+               f", the query {query} under `{' + '.join(m.query_conditions)}`")
     return (f"the reference and query drives {drives}; a query's references lie within "
             f"{m.radius:g} m in its room, heading within half the field of view; top-1 at "
             "the level of places (VPR-Bench's, `placeclust.vprbench`) above chance, "
             "(top-1 − chance) / (1 − chance), chance being what a uniformly drawn place of "
             "the map scores (a map of one place scores 0, not 1)")
+
+
+def _textures(m: Matched) -> str:
+    p = m.photo
+    return "" if p is None else (f"; surfaces with photographic statistics (detail "
+                                 f"{p.detail:g}, grain {p.grain:g}, {p.stains} stains)")
 
 
 def _row(name: str, sims: list[dict[str, Any]], sim_mean: float, on_real: Estimate,
@@ -153,7 +177,7 @@ def report(dataset: str, real: dict[str, Any], sims: list[dict[str, Any]], m: Ma
     names = list(t.methods)
     units = "queries" if m.question == "vpr-bench" else "frames"
     lines = [f"Camera like `{dataset}`'s: {m.camera.describe()}; sensor "
-             f"{m.sensor.as_dict() or 'none'}. Simulated: scene seeds "
+             f"{m.sensor.as_dict() or 'none'}{_textures(m)}. Simulated: scene seeds "
              f"{', '.join(str(s['scene']) for s in sims)}, {m.rooms} rooms, "
              f"{m.steps_per_room} frames a room a drive (every {m.stride}); {_question(m)} "
              f"({np.mean([s['queries'] for s in sims]):.0f} {units} scored a building). "
@@ -220,6 +244,10 @@ def build_parser(prog: str) -> ArgumentParser:
                    "(envs.world.sensor: grey, exposure, shot_noise, read_noise, motion_blur, blur, "
                    "vignetting, jpeg), each replacing the camera file's; a grey data set makes "
                    "the camera grey")
+    p.add_argument("--textures", choices=("plain", "photo"), default="plain",
+                   help="photo: walls, floors and furniture given photographic statistics "
+                   "(envs.tasks.photo_textures, a realism lever at its measured settings); "
+                   "plain: PlaceNav-v0's own")
     p.add_argument("--rooms", type=room_count, default=4)
     p.add_argument("--steps-per-room", type=int, default=100, help="frames a room a drive")
     p.add_argument("--stride", type=int, default=1, help="keep every STRIDE-th frame (a "
@@ -232,6 +260,13 @@ def build_parser(prog: str) -> ArgumentParser:
                    help="a VPR-Bench question's query drive under these conditions together "
                    "(a lighting, an appearance change; the reference drive's otherwise): the "
                    "same route on another day")
+    p.add_argument("--query-route", choices=QUERY_ROUTES, default="tour",
+                   help="a VPR-Bench question's query drive: tour, the tour's second half (its "
+                   "rooms again along other paths); lap, the reference drive's path driven "
+                   "again a little to one side, as a data set's second traversal is")
+    p.add_argument("--against", metavar="OUT", help="another like run's report folder on the "
+                   "same buildings (the same command without a lever): the report adds how "
+                   "much better this one ranks, paired over buildings")
     p.add_argument("--out", help="report folder (default runs/like-NAME)")
     p.add_argument("--workers", type=int, default=0, help="processes; 0: one per core")
     p.add_argument("--executor", choices=("process", "ray"), default="process")
@@ -255,9 +290,10 @@ def matched_from_args(args: argparse.Namespace) -> tuple[str, list[int], Matched
         raise ValueError(f"--radius must be a positive number of metres, got {args.radius}")
     question = question_of(args.dataset)
     condition_kwargs(tuple(args.query_condition))  # a ValueError for two lightings
-    if args.query_condition and question != "vpr-bench":
-        raise ValueError(f"--query-condition sets a query drive, and {args.dataset} asks no "
-                         "queries (a labelled folder is clustered as one drive)")
+    if (args.query_condition or args.query_route != "tour") and question != "vpr-bench":
+        raise ValueError(f"--query-condition and --query-route set a query drive, and "
+                         f"{args.dataset} asks no queries (a labelled folder is clustered as "
+                         "one drive)")
     cannot = [a for a in args.algos if a not in ALGOS]
     if question == "vpr-bench" and cannot:
         raise ValueError(f"{', '.join(cannot)} cannot localize on a fixed map, which "
@@ -274,8 +310,50 @@ def matched_from_args(args: argparse.Namespace) -> tuple[str, list[int], Matched
                 configs, question, rooms=args.rooms, steps_per_room=args.steps_per_room,
                 stride=args.stride, radius=args.radius, doors=args.doors,
                 params=tuple(sorted(params.items())),
-                query_conditions=tuple(args.query_condition))
+                query_conditions=tuple(args.query_condition),
+                photo=Photo() if args.textures == "photo" else None,
+                query_route=args.query_route)
     return args.dataset, scene_list, m, Path(args.out or f"runs/like-{Path(args.dataset).name}")
+
+
+def baseline_of(folder: str, scenes: list[int], m: Matched) -> list[dict[str, Any]]:
+    """The buildings ``scenes`` of the like run kept in ``folder`` (``--against``).
+
+    Raises:
+        ValueError: a building is not kept there, or lacks one of ``m``'s configurations.
+    """
+    out = []
+    for scene in scenes:
+        path = Path(folder) / "sim" / f"scene_{scene}.json"
+        if not path.is_file():
+            raise ValueError(f"--against {folder}: no building {scene} kept there "
+                             f"({path} missing); run it on the same scenes first")
+        kept = json.loads(path.read_text())
+        missing = [config_name(a, f) for a, f in m.configs
+                   if config_name(a, f) not in kept["configs"]]
+        if missing:
+            raise ValueError(f"--against {folder}: building {scene} lacks {', '.join(missing)}")
+        out.append(kept)
+    return out
+
+
+def against(real: dict[str, Any], sims: list[dict[str, Any]], base: list[dict[str, Any]],
+            folder: str, m: Matched) -> str:
+    """The report's paragraph: this run's rank agreement against ``folder``'s, paired."""
+    names = [config_name(a, f) for a, f in m.configs]
+    rho, alike = transfer_difference(
+        {n: [s["configs"][n]["score"] for s in sims] for n in names},
+        {n: [s["configs"][n]["score"] for s in base] for n in names},
+        real_score(real, names, m.question))
+    return (f"Against `{folder}` (the same {plural(len(sims), 'building')}, resampled together, "
+            f"and the same real draws): Spearman {_signed(rho)}, pairs ordered alike "
+            f"{_signed(alike)} (this run minus that one).")
+
+
+def _signed(e: Estimate) -> str:
+    if not math.isfinite(e.mean):  # Spearman's rho of fewer than 3 configurations
+        return "undefined"
+    return f"{e.mean:+.2f} [{e.low:+.2f}, {e.high:+.2f}]"
 
 
 def main(argv: list[str] | None = None, prog: str = "placeclust like") -> int:
@@ -284,12 +362,15 @@ def main(argv: list[str] | None = None, prog: str = "placeclust like") -> int:
     args = build_parser(prog).parse_args(argv)
     try:
         dataset, scene_list, m, out = matched_from_args(args)
+        base = baseline_of(args.against, scene_list, m) if args.against else None
         real, sims = run_matched(dataset, scene_list, m, out, args.workers or os.cpu_count() or 1,
                                  args.executor, args.ray_address)
     except ValueError as err:
         print(f"error: {err}", file=sys.stderr)
         return 2
     text = report(dataset, real, sims, m)
+    if base is not None:
+        text += "\n\n" + against(real, sims, base, args.against, m)
     (out / "results.md").write_text(f"# {dataset} through its own camera\n\n{text}\n")
     print(text)
     if args.docs:

@@ -28,10 +28,8 @@ import numpy as np
 
 from placeclust.argparsing import ArgumentParser
 
-from ..tasks.camera_sensor import CameraSensor
-from ..tasks.photo_textures import Photo, retexture
+from ..tasks.photo_textures import Photo, record_photo_tour, retexture
 from ..tasks.place_nav import PlaceNavEnv
-from ..tasks.tour import drive_tour
 from ..world.scene import build_scene
 from ..world.sensor import Sensor
 from .speed import _interleaved, _stepper, ratio
@@ -106,20 +104,14 @@ def main(argv: list[str] | None = None) -> int:
         if not args.out:
             raise ValueError("--out FOLDER is needed for a tour")
         sensor = Sensor.parse(args.sensor)
-        env: gym.Env = gym.make("PlaceNav-v0", scene_seed=args.scene_seed, n_rooms=args.rooms,
-                                camera="forward", image_width=args.width,
-                                image_height=args.height, image_fov=args.fov,
-                                max_episode_steps=None)
+        # a bad size or field of view is refused by PlaceNav-v0 before anything is drawn
+        tour = record_photo_tour(args.scene_seed, args.rooms, args.steps, photo,
+                                 seed=args.seed, sensor=sensor, camera="forward",
+                                 image_width=args.width, image_height=args.height,
+                                 image_fov=args.fov)
     except ValueError as e:
         print(f"error: {e}", file=sys.stderr)
         return 2
-    retexture(_nav(env).model, args.scene_seed, photo)  # before the first frame is drawn
-    if sensor.active:
-        env = CameraSensor(env, sensor)
-    try:
-        tour = drive_tour(env, args.steps, seed=args.seed)
-    finally:
-        env.close()
     out = Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
     tour.save(str(out / "tour.npz"), scene_seed=args.scene_seed, tour_seed=args.seed,

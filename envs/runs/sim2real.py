@@ -36,8 +36,9 @@ import math
 import tempfile
 from dataclasses import asdict, dataclass, replace
 from pathlib import Path
-from typing import Any
+from typing import Any, cast
 
+import gymnasium as gym
 import numpy as np
 
 from placeclust.atomic import write_atomic
@@ -49,7 +50,11 @@ from placeclust.realdata import cluster_folder, dataset_kind, fingerprint, open_
 from placeclust.strict_json import dumps
 from placeclust.vprbench import VPRBench, above_chance, nearby_truth, query_chances
 
-from ..tasks.tour import Tour, record_tour
+from ..agents.lap import drive_lap
+from ..tasks.camera_sensor import CameraSensor
+from ..tasks.photo_textures import Photo, retexture
+from ..tasks.place_nav import PlaceNavEnv
+from ..tasks.tour import Tour, drive_tour
 from ..world.conditions import CONDITIONS
 from ..world.sensor import Sensor
 from .pool import run_all
@@ -65,6 +70,10 @@ ALGOS = ("online", "nested")
 QUESTIONS = {"vpr-bench": "top-1 above chance", "images": "NMI"}
 #: every feature type both recognizers run with
 FEATURES = ("sift", "kaze", "surf", "orb", "akaze")
+#: how a VPR-Bench question's query drive is made: ``tour`` the tour's second half (its rooms
+#: again, along other paths), ``lap`` the reference drive's own path driven again a little to
+#: one side (:func:`envs.agents.lap.drive_lap`), as a real data set's second traversal is
+QUERY_ROUTES = ("tour", "lap")
 
 
 @dataclass(frozen=True)
@@ -85,6 +94,11 @@ class Matched:
     #: the query drive's conditions (names of :data:`~envs.world.conditions.CONDITIONS`, at
     #: most one lighting), applied together; none: the reference drive's
     query_conditions: tuple[str, ...] = ()
+    #: surfaces with photographic statistics (:func:`envs.tasks.photo_textures.retexture`, a
+    #: realism lever); none: the procedural textures as ``PlaceNav-v0`` draws them
+    photo: Photo | None = None
+    #: one of :data:`QUERY_ROUTES`
+    query_route: str = "tour"
 
     def stamp(self) -> str:
         """What a kept figure must match to be reused: these settings and the code."""
@@ -126,28 +140,48 @@ def config_name(algo: str, features: str) -> str:
 
 
 def record(scene: int, m: Matched) -> tuple[Tour, Tour]:
-    """The reference and query drives of ``scene``: one forward-camera tour like the data
-    set's camera, twice ``rooms * steps_per_room`` frames long (every ``stride``-th kept), cut
-    in two. A tour visits every room first and then revisits them along other paths, so its
-    second half is a second traversal of the places of its first. With
-    ``m.query_conditions`` the query half is that of the same tour driven under them (rendered
-    whole, once more: the route up to it must be driven)."""
+    """The reference and query drives of ``scene`` through a forward camera like the data
+    set's, every ``stride``-th frame kept. The reference is the first ``rooms *
+    steps_per_room`` frames of a tour. With ``m.query_route`` ``tour`` the query is the same
+    tour's next as many: a tour visits every room first and then revisits them along other
+    paths, so its second half traverses the places of its first again; with ``lap`` it is the
+    reference's path driven again (:func:`envs.agents.lap.drive_lap`). With
+    ``m.query_conditions`` the query drive is driven under them (the tour rendered whole once
+    more: the route up to its second half must be driven)."""
     sensor = replace(m.sensor, grey=m.sensor.grey or not m.camera.colour)
     half = m.rooms * m.steps_per_room
 
-    def drive(**condition: Any) -> Tour:
-        tour, _ = record_tour(scene, m.rooms, 2 * half * m.stride, seed=0, progress=False,
-                              sensor=sensor, camera="forward", image_width=m.camera.width,
-                              image_height=m.camera.height, image_fov=m.camera.fov,
-                              doors=m.doors, **condition)
-        return tour
+    def env(**condition: Any) -> gym.Env:
+        made: gym.Env = gym.make("PlaceNav-v0", scene_seed=scene, n_rooms=m.rooms,
+                                 max_episode_steps=None, camera="forward",
+                                 image_width=m.camera.width, image_height=m.camera.height,
+                                 image_fov=m.camera.fov, doors=m.doors, **condition)
+        if m.photo is not None:  # before the first frame is drawn
+            retexture(cast(PlaceNavEnv, made.unwrapped).model, scene, m.photo)
+        return CameraSensor(made, sensor) if sensor.active else made
 
-    def part(tour: Tour, start: int) -> Tour:
-        keep = slice(start * m.stride, (start + half) * m.stride, m.stride)
+    def drive(steps: int, **condition: Any) -> Tour:
+        made = env(**condition)
+        try:
+            return drive_tour(made, steps, seed=0)
+        finally:
+            made.close()
+
+    def part(tour: Tour, start: int, n: int = half) -> Tour:
+        keep = slice(start * m.stride, (start + n) * m.stride, m.stride)
         return Tour(tour.frames[keep], tour.room[keep], tour.pose[keep], tour.room_names)
 
-    tour = drive()
-    query = drive(**condition_kwargs(m.query_conditions)) if m.query_conditions else tour
+    condition = condition_kwargs(m.query_conditions)
+    if m.query_route == "lap":
+        tour = drive(half * m.stride)
+        made = env(**condition)
+        try:  # at most twice the reference's steps: a lap that stalls still ends
+            lap = drive_lap(made, tour.pose, 2 * half * m.stride)
+        finally:
+            made.close()
+        return part(tour, 0), part(lap, 0, -(-len(lap.pose) // m.stride))
+    tour = drive(2 * half * m.stride)
+    query = drive(2 * half * m.stride, **condition) if m.query_conditions else tour
     return part(tour, 0), part(query, half)
 
 
@@ -250,7 +284,8 @@ def real_side(dataset: str, m: Matched, out: Path) -> dict[str, Any]:
     """The data set's own figures, kept in ``OUT/real.json``: per configuration its score,
     and what the report resamples (each query's hit, or each frame's place and label)."""
     path = out / "real.json"
-    stamp = f"{m.stamp()}:{fingerprint(dataset)}"
+    # the simulator's textures and query route do not change the data set's figures: kept
+    stamp = f"{replace(m, photo=None, query_route='tour').stamp()}:{fingerprint(dataset)}"
     if path.exists():
         kept = json.loads(path.read_text())
         if kept.get("stamp") == stamp:

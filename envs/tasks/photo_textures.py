@@ -29,11 +29,18 @@ Examples:
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import Any, cast
 
 import cv2
+import gymnasium as gym
 import mujoco
 import numpy as np
 from scipy import ndimage
+
+from ..world.sensor import Sensor
+from .camera_sensor import CameraSensor
+from .place_nav import PlaceNavEnv
+from .tour import Tour, drive_tour
 
 #: the textures :func:`retexture` changes, by name prefix (:mod:`envs.world.scene` names them)
 SURFACES = ("wall_tex", "floor_tex", "furniture_tex")
@@ -105,3 +112,20 @@ def retexture(model: mujoco.MjModel, seed: int, photo: Photo = Photo()) -> int:
         flat[:] = photographic(flat.reshape(h, w, c), rng, photo).ravel()
         changed += 1
     return changed
+
+
+def record_photo_tour(scene_seed: int, n_rooms: int, steps: int, photo: Photo = Photo(),
+                      seed: int = 0, sensor: Sensor | None = None, **env_kwargs: Any) -> Tour:
+    """:func:`~envs.tasks.tour.record_tour`'s scripted tour of a retextured building: the
+    ``PlaceNav-v0`` of ``env_kwargs`` (its camera, lighting, appearance changes), its
+    surfaces given ``photo``'s statistics (seeded by ``scene_seed``) before the first frame,
+    then ``sensor``'s effects on its frames. The same arguments give the same frames."""
+    env: gym.Env = gym.make("PlaceNav-v0", scene_seed=scene_seed, n_rooms=n_rooms,
+                            max_episode_steps=None, **env_kwargs)
+    retexture(cast(PlaceNavEnv, env.unwrapped).model, scene_seed, photo)
+    if sensor is not None and sensor.active:
+        env = CameraSensor(env, sensor)
+    try:
+        return drive_tour(env, steps, seed=seed)
+    finally:
+        env.close()

@@ -4,7 +4,7 @@ shrink as either side draws more."""
 import numpy as np
 import pytest
 
-from placeclust.transfer import block_resample, rank_transfer
+from placeclust.transfer import block_resample, rank_transfer, transfer_difference
 
 
 def _sides(real_order, n_buildings=6, n_queries=100, seed=0):
@@ -52,3 +52,35 @@ def test_block_resample_keeps_blocks_of_neighbours():
     steps = np.diff(picks.reshape(5, 5), axis=1)
     assert (steps == 1).all()
     assert len(block_resample(3, 10, np.random.default_rng(0))) == 3
+
+
+def test_a_lever_that_changes_nothing_differs_by_exactly_zero():
+    """Paired draws: the same buildings and real draws for both, so no noise is left."""
+    sim = {"a": [0.9, 0.5, 0.7], "b": [0.6, 0.7, 0.4], "c": [0.3, 0.2, 0.6]}
+    real = {"a": [1, 1, 0, 1] * 5, "b": [1, 0, 1, 0] * 5, "c": [0, 0, 1, 0] * 5}
+    rho, alike = transfer_difference(sim, dict(sim), real, block=2)
+    assert (rho.mean, rho.low, rho.high) == (0.0, 0.0, 0.0)
+    assert (alike.mean, alike.low, alike.high) == (0.0, 0.0, 0.0)
+
+
+def test_the_simulator_that_ranks_as_the_data_does_is_better_and_decided():
+    """Fault caught: the sides subtracted the wrong way round, or unpaired draws (the
+    interval would then reach past zero on buildings this noisy)."""
+    rng = np.random.default_rng(0)
+    real = {"a": [1, 1, 1, 0] * 10, "b": [1, 0, 1, 0] * 10, "c": [0, 0, 0, 1] * 10}
+    noise = rng.normal(0, 0.3, (8, 3))
+    right = {m: (base + noise[:, k]).tolist() for k, (m, base) in
+             enumerate({"a": 0.9, "b": 0.6, "c": 0.3}.items())}
+    wrong = {m: (base + noise[:, k]).tolist() for k, (m, base) in
+             enumerate({"a": 0.3, "b": 0.6, "c": 0.9}.items())}
+    rho, alike = transfer_difference(right, wrong, real)
+    assert rho.mean == 2.0 and rho.low > 0 and alike.low > 0
+    flipped, _ = transfer_difference(wrong, right, real)
+    assert flipped.mean == -2.0 and flipped.high < 0
+
+
+def test_other_buildings_on_the_two_sides_are_refused():
+    real = {"a": [1, 0], "b": [0, 1], "c": [1, 1]}
+    with pytest.raises(ValueError, match="same buildings"):
+        transfer_difference({"a": [1, 2], "b": [1, 2], "c": [1, 2]},
+                            {"a": [1], "b": [1], "c": [1]}, real)

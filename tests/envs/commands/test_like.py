@@ -126,6 +126,8 @@ def test_a_map_of_one_place_ranks_last_above_chance_though_its_raw_top1_is_best(
     ("vpr", ("--camera-file", "missing.json"), "camera file missing.json does not exist"),
     ("vpr", ("--query-condition", "dusk"), "invalid choice: 'dusk'"),
     ("labelled", ("--query-condition", "night"), "asks no queries"),
+    ("labelled", ("--query-route", "lap"), "asks no queries"),
+    ("vpr", ("--query-route", "loop"), "invalid choice: 'loop'"),
     ("vpr", ("--query-condition", "night", "cloudy"), "both set lighting"),
 ])
 def test_bad_input_is_one_line_exit_2_and_writes_nothing(real, tmp_path, capsys, setup, extra,
@@ -164,6 +166,26 @@ def test_a_camera_file_is_the_same_camera_as_its_settings_on_the_command_line(re
     assert matched() == flags
 
 
+def test_photo_textures_are_an_option_stated_in_the_report(real, tmp_path):
+    """Fault caught: ``--textures photo`` dropped on the way to the buildings, or a report
+    that does not say its buildings were retextured."""
+    from envs.commands.like import build_parser, matched_from_args
+
+    def matched(*extra):
+        args = build_parser("placeclust like").parse_args([str(real), "--scenes", "1000",
+                                                           *extra])
+        return matched_from_args(args)[2]
+
+    assert matched().photo is None and matched("--textures", "plain").photo is None
+    photo = matched("--textures", "photo")
+    assert photo.photo is not None and photo.photo.detail == 0.35
+    out = tmp_path / "out"
+    with pytest.raises(SystemExit) as done:
+        _like(real, out, "--algos", "online", "--textures", "photo")
+    assert done.value.code == 0
+    assert "surfaces with photographic statistics (detail 0.35" in (out / "results.md").read_text()
+
+
 @pytest.mark.parametrize("name", ["vpr-bench-corridor", "rtabmap-loop"])
 def test_the_shipped_cameras_read(tmp_path, name):
     from pathlib import Path
@@ -173,3 +195,35 @@ def test_the_shipped_cameras_read(tmp_path, name):
 
     shipped = Path(__file__).parents[3] / "assets" / "cameras" / f"{name}.json"
     assert Sensor.of(sensor_of(tmp_path, shipped), str(shipped)).active
+
+
+def test_a_lever_is_compared_paired_against_the_run_without_it(real, tmp_path, capsys):
+    """Fault caught: ``--against`` read another run's buildings than this one's, or a
+    missing baseline noticed only after the buildings ran (it must be one line, nothing
+    written)."""
+    plain, photo = tmp_path / "plain", tmp_path / "photo"
+    with pytest.raises(SystemExit) as done:
+        _like(real, photo, "--against", str(plain))
+    err = capsys.readouterr().err.strip()
+    assert done.value.code == 2 and "no building 1000 kept" in err and len(err.splitlines()) == 1
+    assert not photo.exists()
+    with pytest.raises(SystemExit):
+        _like(real, plain)
+    with pytest.raises(SystemExit) as done:
+        _like(real, plain / "again", "--against", str(plain))  # the same run: no difference
+    assert done.value.code == 0
+    text = (plain / "again" / "results.md").read_text()
+    assert f"Against `{plain}` (the same 1 building," in text
+    assert "Spearman undefined, pairs ordered alike +0.00 [+0.00, +0.00]" in text
+
+
+def test_a_lap_query_drive_is_asked_for_and_stated_in_the_report(real, tmp_path):
+    """Fault caught: ``--query-route lap`` dropped on the way to the buildings, or a report
+    that does not say how its query drive was made."""
+    out = tmp_path / "out"
+    with pytest.raises(SystemExit) as done:
+        _like(real, out, "--algos", "online", "--query-route", "lap")
+    assert done.value.code == 0
+    assert "the same path driven again up to 0.3 m to one side" in (out / "results.md").read_text()
+    kept = json.loads((out / "sim" / "scene_1000.json").read_text())
+    assert '"query_route": "lap"' in kept["stamp"]

@@ -44,3 +44,32 @@ def test_conditions_go_together_one_of_each_kind():
     assert condition_kwargs(("night", "moved"))["furniture_moved"] > 0
     with pytest.raises(ValueError, match="both set lighting"):
         condition_kwargs(("night", "cloudy"))
+
+
+def test_photo_textures_change_the_frames_not_the_route():
+    """Fault caught: the textures applied after the first frame (the renderer would keep the
+    plain ones) or to only one of the two drives, or the lever moving the robot."""
+    from envs.tasks.photo_textures import Photo
+
+    m = Matched(CameraSpec(32, 24, True, 60.0), Sensor(), (("online", "orb"),), rooms=2,
+                steps_per_room=4)
+    ref, query = record(1000, m)
+    photo_ref, photo_query = record(1000, replace(m, photo=Photo()))
+    for plain, photo in ((ref, photo_ref), (query, photo_query)):
+        assert np.allclose(photo.pose, plain.pose) and np.array_equal(photo.room, plain.room)
+        assert np.abs(photo.frames.astype(int) - plain.frames).mean() > 2
+    assert m.stamp() != replace(m, photo=Photo()).stamp()  # kept figures are not mixed up
+
+
+def test_a_lap_gives_every_query_a_reference_and_keeps_the_reference_drive():
+    """Fault caught: the lap driven along another path than the reference's (queries without
+    references), or the reference drive changed by the query route."""
+    m = Matched(CameraSpec(32, 24, True, 60.0), Sensor(), (("online", "orb"),), rooms=3,
+                steps_per_room=30)
+    ref, query = record(1001, m)
+    lap_ref, lap = record(1001, replace(m, query_route="lap"))
+    assert np.array_equal(lap_ref.frames, ref.frames) and np.allclose(lap_ref.pose, ref.pose)
+    truth = matched_truth(lap_ref, lap, m.radius, m.camera.fov)
+    tour_truth = matched_truth(ref, query, m.radius, m.camera.fov)
+    assert np.mean([bool(t) for t in truth]) > 0.9 > np.mean([bool(t) for t in tour_truth])
+    assert m.stamp() != replace(m, query_route="lap").stamp()
