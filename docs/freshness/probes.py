@@ -173,8 +173,9 @@ def inputs(argv: list[str], produced: dict[str, str]) -> list[tuple[str, str | N
     for token in (t for o, v in _options(argv) if o not in _DROP for t in v):
         for path in token.split("=", 1)[-1].split(","):
             path = path.split("@", 1)[0]
-            if path.startswith("runs/"):
-                owner = next((d for d in produced if path.startswith(d.rstrip("/") + "/")), None)
+            if path.startswith("runs/"):  # a file under a run's folder, or the folder
+                owner = next((d for d in produced if path == d.rstrip("/")
+                              or path.startswith(d.rstrip("/") + "/")), None)
                 found.append((path, owner))
     return found
 

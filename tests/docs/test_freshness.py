@@ -256,6 +256,20 @@ def test_a_command_that_reads_results_runs_what_wrote_them_or_a_stand_in(tmp_pat
     assert report[3:] == ["a=S/results.json@oracle,S/r.json", "b=Q/results.json@none"]
 
 
+def test_a_command_that_reads_a_whole_run_folder_runs_what_wrote_it(tmp_path):
+    """``like --against OUT`` reads another like run's folder, not a file in it. Fault
+    caught: the folder taken for an unknown input (a stand-in's results.json, which the
+    tiny run cannot read)."""
+    commands = {"base": shlex.split("placeclust like data --out runs/base --docs d.md"),
+                "lever": shlex.split("placeclust like data --textures photo --against runs/base "
+                                     "--out runs/lever --docs d.md")}
+    assert probes.inputs(commands["lever"], {"runs/base": "base"}) == [("runs/base",
+                                                                        "runs/base")]
+    base, lever = probes.probe_runs("lever", commands, tmp_path)
+    assert base[-1] == str(tmp_path / "base")
+    assert lever[lever.index("--against") + 1] == str(tmp_path / "base")
+
+
 def test_a_suites_long_track_read_from_its_run_gets_a_stand_in(tmp_path):
     # the suite's tiny run leaves long out, so placeclust score over all eight tracks of a
     # suite run reads long's file from a stand-in and every other track's from that tiny run
