@@ -36,7 +36,7 @@ import math
 import tempfile
 from dataclasses import asdict, dataclass, replace
 from pathlib import Path
-from typing import Any, cast
+from typing import Any
 
 import gymnasium as gym
 import numpy as np
@@ -51,9 +51,7 @@ from placeclust.strict_json import dumps
 from placeclust.vprbench import VPRBench, above_chance, nearby_truth, query_chances
 
 from ..agents.lap import drive_lap
-from ..tasks.camera_sensor import CameraSensor
-from ..tasks.photo_textures import Photo, retexture
-from ..tasks.place_nav import PlaceNavEnv
+from ..tasks.photo_textures import Photo, retextured_env
 from ..tasks.tour import Tour, drive_tour
 from ..world.conditions import CONDITIONS
 from ..world.sensor import Sensor
@@ -152,13 +150,9 @@ def record(scene: int, m: Matched) -> tuple[Tour, Tour]:
     half = m.rooms * m.steps_per_room
 
     def env(**condition: Any) -> gym.Env:
-        made: gym.Env = gym.make("PlaceNav-v0", scene_seed=scene, n_rooms=m.rooms,
-                                 max_episode_steps=None, camera="forward",
-                                 image_width=m.camera.width, image_height=m.camera.height,
-                                 image_fov=m.camera.fov, doors=m.doors, **condition)
-        if m.photo is not None:  # before the first frame is drawn
-            retexture(cast(PlaceNavEnv, made.unwrapped).model, scene, m.photo)
-        return CameraSensor(made, sensor) if sensor.active else made
+        return retextured_env(scene, m.rooms, m.photo, sensor, camera="forward",
+                              image_width=m.camera.width, image_height=m.camera.height,
+                              image_fov=m.camera.fov, doors=m.doors, **condition)
 
     def drive(steps: int, **condition: Any) -> Tour:
         made = env(**condition)
@@ -179,7 +173,7 @@ def record(scene: int, m: Matched) -> tuple[Tour, Tour]:
             lap = drive_lap(made, tour.pose, 2 * half * m.stride)
         finally:
             made.close()
-        return part(tour, 0), part(lap, 0, -(-len(lap.pose) // m.stride))
+        return part(tour, 0), part(lap, 0, math.ceil(len(lap.pose) / m.stride))
     tour = drive(2 * half * m.stride)
     query = drive(2 * half * m.stride, **condition) if m.query_conditions else tour
     return part(tour, 0), part(query, half)

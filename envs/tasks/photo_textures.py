@@ -114,17 +114,23 @@ def retexture(model: mujoco.MjModel, seed: int, photo: Photo = Photo()) -> int:
     return changed
 
 
-def record_photo_tour(scene_seed: int, n_rooms: int, steps: int, photo: Photo = Photo(),
-                      seed: int = 0, sensor: Sensor | None = None, **env_kwargs: Any) -> Tour:
-    """:func:`~envs.tasks.tour.record_tour`'s scripted tour of a retextured building: the
-    ``PlaceNav-v0`` of ``env_kwargs`` (its camera, lighting, appearance changes), its
-    surfaces given ``photo``'s statistics (seeded by ``scene_seed``) before the first frame,
-    then ``sensor``'s effects on its frames. The same arguments give the same frames."""
+def retextured_env(scene_seed: int, n_rooms: int, photo: Photo | None = Photo(),
+                   sensor: Sensor | None = None, **env_kwargs: Any) -> gym.Env:
+    """The ``PlaceNav-v0`` of ``env_kwargs`` (its camera, lighting, appearance changes), its
+    surfaces given ``photo``'s statistics (seeded by ``scene_seed``; None: as ``PlaceNav-v0``
+    draws them) before the first frame, then ``sensor``'s effects on its frames."""
     env: gym.Env = gym.make("PlaceNav-v0", scene_seed=scene_seed, n_rooms=n_rooms,
                             max_episode_steps=None, **env_kwargs)
-    retexture(cast(PlaceNavEnv, env.unwrapped).model, scene_seed, photo)
-    if sensor is not None and sensor.active:
-        env = CameraSensor(env, sensor)
+    if photo is not None:
+        retexture(cast(PlaceNavEnv, env.unwrapped).model, scene_seed, photo)
+    return CameraSensor(env, sensor) if sensor is not None and sensor.active else env
+
+
+def record_photo_tour(scene_seed: int, n_rooms: int, steps: int, photo: Photo = Photo(),
+                      seed: int = 0, sensor: Sensor | None = None, **env_kwargs: Any) -> Tour:
+    """:func:`~envs.tasks.tour.record_tour`'s scripted tour of a retextured building
+    (:func:`retextured_env`). The same arguments give the same frames."""
+    env = retextured_env(scene_seed, n_rooms, photo, sensor, **env_kwargs)
     try:
         return drive_tour(env, steps, seed=seed)
     finally:
