@@ -38,13 +38,12 @@ from __future__ import annotations
 import math
 from typing import Any
 
-import networkx as nx
 import numpy as np
 from scipy.spatial.distance import cdist
 
 from ..tasks.tour import WaypointController
 from .relocalize import RelocalizingPlanner
-from .teach_repeat import SPACING, _resample, guard
+from .teach_repeat import WAYPOINT_SPACING, _resample, guard
 
 #: m: believed this close to its target, the agent declares arrival
 STOP_AT = 0.3
@@ -119,9 +118,6 @@ class SpotPlanner(RelocalizingPlanner):
         """Waypoints along the tour's roadmap from the step nearest the robot to the target."""
         assert self.target is not None
         start = self._nearest_step(np.arange(len(self.path)))
-        try:
-            way = nx.shortest_path(self.roadmap, start, self.target, weight="weight")
-        except nx.NetworkXNoPath:
-            way = [self.target]
-        points = _resample(np.vstack([self.pos, self.path[way]]), SPACING)[1:]
+        way = self.roadmap.route(start, self.target) or [self.target]
+        points = _resample(np.vstack([self.pos, self.path[way]]), WAYPOINT_SPACING)[1:]
         return WaypointController([(x, y, 0.2) for x, y in points])

@@ -38,16 +38,16 @@ from collections import deque
 
 import networkx as nx
 import numpy as np
-from scipy.spatial import cKDTree
 from scipy.spatial.distance import cdist
 
 from ..tasks.tour import WaypointController
 from ..world.robot import N_RANGES
+from .roadmap import Roadmap
 from .topological import steer
 
 #: seconds of tour path before a crossing that a hop may join, and after it that it drives
 RUN_UP, FOLLOW_THROUGH = 4.0, 2.0
-SPACING = 0.2  # m between the waypoints of a replayed stretch
+WAYPOINT_SPACING = 0.2  # m between the waypoints of a replayed stretch
 OVERLAP = 0.4  # m: two places whose tour paths came this close are neighbours
 SAME_PLACE = 1.2  # m: steps of one place this close are joined on the roadmap
 PASSED = 3  # places just left whose late reports are ignored
@@ -201,21 +201,12 @@ class TourPlanner:
                     self._add_hop(b, a, np.array([ib, ia]))
 
     def _learn_roadmap(self) -> None:
-        """The tour's path as a graph of free space: each step joined to the next, to any other
-        step within ``OVERLAP`` metres (where the tour passed again), and to any step of the
-        same place within ``SAME_PLACE`` metres."""
-        self.roadmap = nx.Graph()
-        n = len(self.path)
-        step = np.linalg.norm(np.diff(self.path, axis=0), axis=1)
-        self.roadmap.add_weighted_edges_from(zip(range(n - 1), range(1, n), step.tolist()))
-        tree = cKDTree(self.path)
-        near = tree.query_pairs(OVERLAP)
-        # farther within one place: the recognizer says they are one room, with no wall between
-        same = {(i, j) for i, j in tree.query_pairs(SAME_PLACE)
-                if self.places[i] == self.places[j] >= 0}
-        pairs = np.array(list(near | same), np.int64).reshape(-1, 2)  # the sets' order kept
-        length = np.linalg.norm(self.path[pairs[:, 0]] - self.path[pairs[:, 1]], axis=1)
-        self.roadmap.add_weighted_edges_from(zip(*pairs.T.tolist(), length.tolist()))
+        """The tour's path as a graph of free space (:class:`~envs.agents.roadmap.Roadmap`):
+        each step joined to the next, to any other step within ``OVERLAP`` metres (where the
+        tour passed again), and to any step of the same place within ``SAME_PLACE`` metres (the
+        recognizer says they are one room, with no wall between)."""
+        self.roadmap = Roadmap(self.path, join=OVERLAP, places=self.places,
+                               same_place=SAME_PLACE)
 
     def _add_hop(self, a: int, b: int, stretch: np.ndarray) -> None:
         """A hop a -> b driven through ``stretch``, indices of tour steps in driving order."""
@@ -236,7 +227,8 @@ class TourPlanner:
                                                             axis=1).min())
         join = int(np.argmin(np.linalg.norm(self.path[steps[:run_up + 1]] - self.pos, axis=1)))
         approach = self._approach(a, int(steps[join]))
-        points = _resample(self.path[np.concatenate([approach, steps[join:]])], SPACING)
+        points = _resample(self.path[np.concatenate([approach, steps[join:]])],
+                           WAYPOINT_SPACING)
         return WaypointController([(x, y, 0.25) for x, y in points])
 
     def _approach(self, a: int, target: int) -> np.ndarray:
@@ -246,15 +238,12 @@ class TourPlanner:
         roadmap from the tour step nearest the robot, never straight across rooms."""
         inside = np.flatnonzero(self.places == a)
         if inside.size:
-            start = self._nearest_step(inside)
-            try:
-                way = nx.shortest_path(self.roadmap.subgraph({*inside.tolist(), target}), start,
-                                       target, weight="weight")
+            way = self.roadmap.route(self._nearest_step(inside), target,
+                                     within={*inside.tolist(), target})
+            if way is not None:
                 return np.array(way[:-1], np.int64)
-            except nx.NetworkXNoPath:
-                pass
-        way = nx.shortest_path(self.roadmap, self._nearest_step(np.arange(len(self.path))),
-                               target, weight="weight")
+        way = self.roadmap.route(self._nearest_step(np.arange(len(self.path))), target)
+        assert way is not None, "the tour's path joins every step to the next"
         return np.array(way[:-1], np.int64)
 
     def _nearest_step(self, steps: np.ndarray) -> int:

@@ -4,7 +4,8 @@ Place ids and room names mean something different in every building, so an agent
 work in buildings it has never seen cannot be given them as they are. :class:`TourFeatures`
 turns ``PlaceNav-GuidedTour-v1``'s observation into a vector that means the same everywhere,
 built from the guided tour: the tour's path is dead-reckoned from its odometry and compass
-(:func:`~envs.agents.teach_repeat.dead_reckon`) and becomes a roadmap (:class:`TourRoute`), a
+(:func:`~envs.agents.teach_repeat.dead_reckon`) and becomes a roadmap
+(:class:`~envs.agents.roadmap.Roadmap`, a node every :data:`NODE_SPACING` metres), a
 goal is the point where the guide named its room, and a place is the mean of the tour's
 positions in it. From an estimate of where the robot is, the agent is told the way to the goal
 along the tour's roadmap: a point :data:`AHEAD` metres on (the "carrot" of pure pursuit) and
@@ -57,14 +58,12 @@ from typing import Any
 import gymnasium as gym
 import numpy as np
 from gymnasium import spaces
-from scipy.sparse import coo_matrix
-from scipy.sparse.csgraph import dijkstra
-from scipy.spatial import cKDTree
 
 from placeclust.protocol import resolve
 
 from ..world.robot import MAX_RANGE, MAX_SPEED, MAX_TURN, N_RANGES
 from .hints import unknown_place
+from .roadmap import Roadmap
 from .teach_repeat import dead_reckon
 
 #: the kinds of agent, each seeing what the one before sees and more
@@ -73,8 +72,9 @@ SENSES = ("noplace", "place", "oracle")
 SCALE = 10.0
 #: metres from the robot's nearest roadmap point to the carrot, along the way to the goal
 AHEAD = 1.0
-#: metres between roadmap nodes, and the farthest two tour positions are joined across
-SPACING, JOIN = 0.2, 0.3
+#: metres between roadmap nodes, and the farthest two nodes are joined across (a door passed
+#: twice); no place labels, so that every kind of agent sees the same roadmap
+NODE_SPACING, JOIN = 0.2, 0.3
 #: rangefinders, odometry (2), compass (2), the way from dead reckoning (4)
 N_BASE = N_RANGES + 2 + 2 + 4
 #: the way from a place (4), at the goal's place, the place just changed
@@ -92,53 +92,7 @@ def _check(senses: str) -> str:
     return senses
 
 
-class TourRoute:
-    """The tour's dead-reckoned path as a roadmap, and the way along it to a point of the tour.
-
-    Nodes are the path every :data:`SPACING` metres; an edge joins consecutive nodes and any
-    two within :data:`JOIN` metres (where the tour passed the same spot twice, e.g. a door).
-
-    Args:
-        path: (T, 2) tour positions (m).
-    """
-
-    def __init__(self, path: np.ndarray) -> None:
-        keep = [0]
-        for t in range(1, len(path)):
-            if math.dist(path[t], path[keep[-1]]) >= SPACING:
-                keep.append(t)
-        self.steps = np.asarray(keep)
-        self.nodes = path[self.steps]
-        self.tree = cKDTree(self.nodes)
-        n = len(self.nodes)
-        pairs = {(i, i + 1) for i in range(n - 1)} | self.tree.query_pairs(JOIN)
-        i, j = np.array(sorted(pairs), dtype=np.int64).reshape(-1, 2).T
-        w = np.linalg.norm(self.nodes[i] - self.nodes[j], axis=1) + 1e-6
-        self.graph = coo_matrix((w, (i, j)), shape=(n, n)).tocsr()
-        self._ways: dict[int, tuple[np.ndarray, np.ndarray]] = {}
-
-    def node_of_step(self, step: int) -> int:
-        """The roadmap node nearest to tour step ``step``."""
-        return int(np.searchsorted(self.steps, step, side="right") - 1)
-
-    def way(self, goal: int, position: np.ndarray) -> tuple[np.ndarray, float]:
-        """The carrot (a point :data:`AHEAD` metres on toward node ``goal``) from
-        ``position`` and the distance (m) left: to the nearest node, then along the roadmap."""
-        if goal not in self._ways:  # the next node toward the goal, from every node
-            dist, pred = dijkstra(self.graph, directed=False, indices=goal,
-                                  return_predecessors=True)
-            self._ways[goal] = (dist, pred)
-        dist, pred = self._ways[goal]
-        gap, node = self.tree.query(position)
-        left = float(dist[node]) + float(gap)
-        walked = 0.0
-        while walked < AHEAD and pred[node] >= 0:
-            walked += float(np.linalg.norm(self.nodes[pred[node]] - self.nodes[node]))
-            node = int(pred[node])
-        return self.nodes[node], left
-
-
-def way_block(route: TourRoute | None, goal: int | None, position: np.ndarray | None,
+def way_block(route: Roadmap | None, goal: int | None, position: np.ndarray | None,
               yaw: float, known: float = 1.0) -> list[float]:
     """The carrot's offset from ``position`` in the robot's frame (forward, left; units of
     :data:`AHEAD`) and the distance left (units of :data:`SCALE`), clipped to [-2, 2], and
@@ -146,7 +100,7 @@ def way_block(route: TourRoute | None, goal: int | None, position: np.ndarray | 
     unknown."""
     if route is None or goal is None or position is None:
         return [0.0, 0.0, 0.0, 0.0]
-    carrot, left = route.way(goal, position)
+    carrot, left = route.way(goal, position, AHEAD)
     dx, dy = (carrot - position) / AHEAD
     c, s = math.cos(yaw), math.sin(yaw)
     ahead, side = c * dx + s * dy, -s * dx + c * dy
@@ -216,7 +170,7 @@ class TourFeatures(gym.Wrapper):
         self.repeat = repeat
         self.unknown = unknown_place(env)
         self.observation_space = spaces.Box(-2.0, 2.0, (n_features(senses),), np.float32)
-        self._route: TourRoute | None = None
+        self._route: Roadmap | None = None
         self._goals: dict[str, int] = {}
         self._tour_labels: dict[str, dict[str, int]] = {}
         self._trackers: dict[str, Anchored] = {}
@@ -238,7 +192,7 @@ class TourFeatures(gym.Wrapper):
         path = dead_reckon(tour.odometry, tour.heading, tour.control_dt)
         self._dt = tour.control_dt
         said = [(t, str(name)) for t, name in enumerate(tour.heard) if name]
-        self._route = TourRoute(path)
+        self._route = Roadmap(path, spacing=NODE_SPACING, join=JOIN)
         self._goals = {name: self._route.node_of_step(t) for t, name in said}
         kinds = ("place", "room")[:SENSES.index(self.senses)]
         labels = {"place": np.asarray(tour.place_id)}

@@ -2,13 +2,16 @@ import gymnasium as gym
 import numpy as np
 import pytest
 
+from envs.agents.roadmap import Roadmap
 from envs.agents.tour_features import (
+    AHEAD,
+    JOIN,
     N_BASE,
     N_PLACE,
+    NODE_SPACING,
     SENSES,
     Anchored,
     TourFeatures,
-    TourRoute,
     n_features,
     way_block,
 )
@@ -43,9 +46,9 @@ def test_the_way_follows_the_tours_roadmap_around_a_corner():
     # an L-shaped tour: 5 m east, then 5 m north; the goal at its end
     east = np.stack([np.linspace(0, 5, 101), np.zeros(101)], axis=1)
     north = np.stack([np.full(100, 5.0), np.linspace(0.05, 5, 100)], axis=1)
-    route = TourRoute(np.concatenate([east, north]))
+    route = Roadmap(np.concatenate([east, north]), spacing=NODE_SPACING, join=JOIN)
     goal = route.node_of_step(200)
-    carrot, left = route.way(goal, np.array([1.0, 0.0]))
+    carrot, left = route.way(goal, np.array([1.0, 0.0]), AHEAD)
     assert carrot == pytest.approx([2.0, 0.0], abs=0.35)  # along the tour, not across
     assert left == pytest.approx(9.0, abs=0.3)
     yaw = np.pi / 2  # facing +y: the carrot 1 m along +x is 1 m to the right
