@@ -32,12 +32,14 @@ not whatever made them.
 
 from __future__ import annotations
 
+import contextlib
+import fcntl
 import json
 import re
 import shlex
 import subprocess
 import sys
-from collections.abc import Callable, Mapping
+from collections.abc import Callable, Iterator, Mapping
 from pathlib import Path
 from typing import Any
 
@@ -78,6 +80,18 @@ def load(manifest: Path = MANIFEST) -> dict[str, Any]:
 def save(data: dict[str, Any], manifest: Path = MANIFEST) -> None:
     data["python"] = PYTHON
     manifest.write_text(json.dumps(data, indent=1, sort_keys=True) + "\n")
+
+
+@contextlib.contextmanager
+def _locked(manifest: Path) -> Iterator[None]:
+    """Hold an exclusive lock beside ``manifest``: verify processes run side by side each
+    read, change and write it whole."""
+    with open(manifest.with_suffix(".lock"), "w") as lock:
+        fcntl.flock(lock, fcntl.LOCK_EX)
+        try:
+            yield
+        finally:
+            fcntl.flock(lock, fcntl.LOCK_UN)
 
 
 def comparable(manifest: Path = MANIFEST) -> bool:
@@ -225,14 +239,17 @@ def run_verify(names: list[str], docs: Path = DOCS, manifest: Path = MANIFEST,
                 log(f"    not judged: {e}")
                 continue
             now = fingerprint(entry["trace"])
-            if same:
-                entry.update(fingerprint=now, verified=str(datetime.date.today()))
-                entry.pop("difference", None)
-                data["differs"].pop(name, None)
-            else:
-                entry["difference"] = what
-                data["differs"][name] = now
-            save(data, manifest)
+            with _locked(manifest):  # another verify may have saved while this probe ran
+                data = load(manifest)
+                entry = data["sections"][name]
+                if same:
+                    entry.update(fingerprint=now, verified=str(datetime.date.today()))
+                    entry.pop("difference", None)
+                    data["differs"].pop(name, None)
+                else:
+                    entry["difference"] = what
+                    data["differs"][name] = now
+                save(data, manifest)
             log(f"    {'the same: current' if same else 'differs: ' + what}")
     finally:
         verify.remove_checkouts(scratch)
