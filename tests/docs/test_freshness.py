@@ -125,6 +125,26 @@ def test_verify_makes_a_moved_table_current_or_lists_it_as_differing(repo_docs, 
         assert freshness.status(docs, manifest)["moved"] == ["table"]
 
 
+def test_a_verdict_saved_by_another_verify_during_a_probe_is_kept(repo_docs, monkeypatch):
+    """Fault caught: writing back the manifest as it was read before the probe, which drops
+    what a verify process beside this one saved meanwhile."""
+    docs, manifest = repo_docs
+    _older(manifest)
+
+    def probe_while_another_saves(name, entry, commands, scratch):
+        data = freshness.load(manifest)
+        data["sections"]["other"] = {"verified": "by the process beside"}
+        freshness.save(data, manifest)
+        return True, ""
+
+    monkeypatch.setattr(freshness.verify, "verdict", probe_while_another_saves)
+    monkeypatch.setattr(freshness, "measured_commit", lambda name, entry, docs: "c0ffee")
+    freshness.run_verify(["table"], docs, manifest, docs.parent / "scratch", log=lambda _: None)
+    sections = json.loads(manifest.read_text())["sections"]
+    assert sections["other"] == {"verified": "by the process beside"}
+    assert "verified" in sections["table"]
+
+
 def test_a_moved_section_is_probed_against_the_newest_commit_that_still_measured_it():
     """Fault caught: probing the old side at the commit that first wrote the section (every
     section a checkout of its own, each probe run again) or at today's code (the change
