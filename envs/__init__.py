@@ -1,7 +1,8 @@
 """Simulated buildings for place recognition: the ``PlaceNav`` Gymnasium environments.
 
 Importing this package registers ``PlaceNav-v0``, ``PlaceNav-ReachRoom-v0``,
-``PlaceNav-GuidedTour-v1`` and ``PlaceNav-ImageGoal-v0`` and, unless the user has chosen a
+``PlaceNav-GuidedTour-v1``, ``PlaceNav-ImageGoal-v0`` and ``PlaceNav-ImageGoal-v1``
+(:mod:`envs.tasks.image_goal`, placenav-v5's) and, unless the user has chosen a
 backend, selects MuJoCo's headless EGL renderer (``MUJOCO_GL=egl``), which must happen
 before ``mujoco`` is imported anywhere.
 
@@ -33,6 +34,7 @@ if os.environ["MUJOCO_GL"] in ("egl", "osmesa"):
 
 from gymnasium.envs.registration import register, registry  # noqa: E402
 
+from .tasks import image_goal  # noqa: E402,F401  (registers PlaceNav-ImageGoal-v1)
 from .tasks.guided_tour import GuidedTourEnv  # noqa: E402
 from .tasks.place_id import PlaceIdWrapper  # noqa: E402
 from .tasks.place_nav import PlaceNavEnv  # noqa: E402

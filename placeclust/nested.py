@@ -229,6 +229,37 @@ class NestedMapper:
         self.current = (loc, UNKNOWN) if n >= self.min_matches else (UNKNOWN, UNKNOWN)
         return self.current[0]
 
+    def rank_places(self, frame: np.ndarray, n: int = 10) -> list[int]:
+        """The ``n`` locations with most ratio-test matches to ``frame``, best first, among the
+        ``rank`` the global index ranks first; the map and the current location are unchanged.
+        Unlike :meth:`localize_one` no key-frame gate and no ``min_matches``: every frame with
+        features gets an answer (placenav-v5's goal pictures).
+
+        Args:
+            frame: an image, the size of the map's frames.
+            n: how many locations.
+
+        Returns:
+            Up to ``n`` location ids (none for a featureless frame or an empty map).
+
+        Examples:
+            >>> from placeclust.nested import NestedMapper
+            >>> from placeclust.synthetic import places
+            >>> frames, truth = places(4)
+            >>> mapper = NestedMapper()
+            >>> _ = [mapper.learn_predict_one(f) for f in frames]
+            >>> mapper.rank_places(frames[0], n=1), mapper.rank_places(frames[-1], n=1)
+            ([0], [1])
+        """
+        gray = to_gray(frame)
+        check_size(gray, self.frame_shape)
+        desc = self._describe(gray)
+        if len(desc) < 2 or not self.locations:
+            return []
+        counts = [(len(self._matches(p, desc)[0]), p) for p in self._index.ranked(desc)[
+            : self.rank]]
+        return [p for _, p in sorted(counts, key=lambda c: (-c[0], c[1]))[:n]]
+
     def reset_position(self) -> None:
         """Forget where the robot is (a new drive starts); the map is kept.
 

@@ -13,6 +13,9 @@ An online recognizer may add, and the commands dispatch on, these optional parts
 - :class:`Localizer`: ``localize_one(frame) -> int``, naming a place on a fixed map; it takes
   part in cross-condition runs (``placeclust bench --conditions day>night``) and in
   ``PlaceIdWrapper(learn=False)``; others are reported as skipped or refused;
+- :class:`Ranker`: ``rank_places(frame, n) -> [int]``, its places best first for a frame,
+  learning nothing; ``placenav-v5`` names a goal picture's place by it (below the threshold
+  too) and ``placeclust bench`` scores recall at N with it;
 - :class:`Repositionable`: ``reset_position()``, forget where the robot was (it was carried);
 - :class:`Merging`: ``resolve(ids) -> ids``, the place each id it gave belongs to now (ids that
   consolidation merged away); scores use it;
@@ -101,6 +104,19 @@ def is_offline(obj: object) -> bool:
 def can_localize(obj: object) -> bool:
     """Whether a recognizer (class or instance) can name places on a fixed map."""
     return _has(obj, "localize_one")
+
+
+@runtime_checkable
+class Ranker(Protocol):
+    """Ranks its places for a frame, best first, learning nothing: a picture always gets an
+    answer, below the recognizer's threshold too (placenav-v5's goals, recall at N)."""
+
+    def rank_places(self, frame: np.ndarray, n: int = 10) -> list[int]: ...
+
+
+def can_rank(obj: object) -> bool:
+    """Whether a recognizer (class or instance) can rank its places for a frame."""
+    return _has(obj, "rank_places")
 
 
 def reset_position(model: object) -> None:

@@ -36,6 +36,7 @@ from placeclust.stats import (
     suite_score,
 )
 
+from ..runs.decomposition import decomposition_table
 from ..runs.results import calibration, groups, load_results, paired_rows, slug
 
 
@@ -150,6 +151,10 @@ def main(argv: list[str] | None = None, prog: str = "placeclust score") -> int:
     p.add_argument("--docs", metavar="FILE", help="also write the tables into FILE's section "
                    "score-<tracks> (docs/benchmarks.md)")
     p.add_argument("--section", help="the section's name instead of score-<tracks>")
+    p.add_argument("--decompose", action="store_true", help="also where each recognizer "
+                   "lost its errands to pictures (placenav-v5's records): goals unknown, named "
+                   "in the right room, within 1 m, a spot within 1 m, success there (the "
+                   "driving), first-step stops (envs.runs.decomposition)")
     p.add_argument("--calibration", type=Path, metavar="PNG", help="also each calibration "
                    "recognizer's difference from the ceiling and each track's resolution, and "
                    "their curves of success against the injected error drawn into PNG")
@@ -162,6 +167,8 @@ def main(argv: list[str] | None = None, prog: str = "placeclust score") -> int:
                     for a, b in args.pair]
         if args.calibration:
             compared.append(_calibrate(docs, args.ceiling, args.calibration))
+        if args.decompose:
+            compared.append(decomposition_table(docs))
     except ValueError as e:
         print(f"error: {e}", file=sys.stderr)
         return 2

@@ -198,7 +198,8 @@ def tour_task(steps_per_room: int, errand_start: str = "continue", layout: str =
 
 
 #: the guided tour's arguments a track may set: tracks that agree on them share one tour
-TOUR_KEYS = frozenset({"layout", "tour_steps_per_room", "doors", "local_light"})
+TOUR_KEYS = frozenset({"layout", "tour_steps_per_room", "doors", "local_light", "env_id",
+                       "compass"})
 
 
 def track_jobs(scene_seeds: list[int], recognizers: list[str], tasks: dict[str, dict[str, Any]],

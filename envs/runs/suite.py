@@ -47,6 +47,7 @@ import numpy as np
 from placeclust import __version__
 
 from ..world.splits import SPLITS
+from .suite_v5 import V5, V5_TRACKS
 
 #: the sizes a suite runs at: ``full`` (what the docs report), ``quick`` (a check in minutes),
 #: ``long`` (the long-tour track: fewer buildings, tours of ``long_tour_steps_per_room``)
@@ -171,6 +172,10 @@ SUITES: Mapping[str, Suite] = MappingProxyType({
     # (docs/design.md, "Errands decide the resolution, not buildings"). A building's first
     # five errands are its v3 errands, goal for goal
     "placenav-v4": replace(_V3, name="placenav-v4", goals=15),
+    # v4's question with the verdict the recognizer's: the same goals for all, no stop by
+    # rule, a compass that drifts, goals off the route, the changed tracks on a fixed map too
+    # (envs.runs.suite_v5)
+    "placenav-v5": Suite(**V5),
 })
 
 
@@ -240,6 +245,7 @@ TRACKS: Mapping[str, Track] = MappingProxyType({t.name: t for t in (
     Track("corridor-carried", {"layout": "corridor", "errand_start": "carried"},
           "each errand from where the robot is put down among identical offices"),
     Track("long", {"tour_steps_per_room": 500}, "errands after a tour of 500 steps a room"),
+    *(Track(name, task, tests) for name, task, tests in V5_TRACKS),
 )})
 
 

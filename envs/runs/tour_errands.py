@@ -28,6 +28,7 @@ from ..agents import hints
 from ..agents.learned import LearnedAgent
 from ..agents.relocalize import RelocalizingPlanner
 from ..agents.spot import SpotPlanner
+from ..agents.spot_memory import SpotMemoryPlanner
 from ..agents.teach_repeat import TourPlanner
 from ..tasks.guided_tour import GuidedTourEnv
 from ..tasks.recognizers import check_recognizer_name
@@ -37,10 +38,11 @@ from ..world.textures import ASSETS
 #: ``relocalizer`` (the planner that finds where it is again on the tour's scans: carried
 #: errands, changed worlds), ``spot`` (the relocalizer that goes to an image goal's spot and
 #: stops: ``goal_kind="image"``), a learned ``ppo`` policy, ``random`` actions
-ERRAND_AGENTS = ("planner", "relocalizer", "spot", "ppo", "random")
-#: the agents that can run each kind of goal
+ERRAND_AGENTS = ("planner", "relocalizer", "spot", "spot-memory", "ppo", "random")
+#: the agents that can run each kind of goal; ``spot-memory`` (placenav-v5's) also remembers
+#: where it was during the errands, so every place it saw has a spot
 AGENTS_FOR = {"room": ("planner", "relocalizer", "ppo", "random"),
-              "image": ("spot", "random")}
+              "image": ("spot", "spot-memory", "random")}
 #: the shipped errand policy (``make train-errands``), package data of the wheel too
 POLICY = ASSETS / "policies" / "errands" / "ppo_errands.zip"
 
@@ -49,8 +51,8 @@ def run_scene(scene_seed: int, n_rooms: int = 6, recognizer: str = "panorama",
               agent: str = "planner", goals: int = 5, seed: int = 0,
               policy: str | Path | None = None,
               recognizer_params: dict[str, Any] | None = None,
-              tracks: Mapping[str, Mapping[str, Any]] | None = None, **task: Any
-              ) -> dict[str, Any]:
+              tracks: Mapping[str, Mapping[str, Any]] | None = None,
+              env_id: str = "PlaceNav-GuidedTour-v1", **task: Any) -> dict[str, Any]:
     """One guided tour of building ``scene_seed`` and ``goals`` errands; the outcome.
 
     Args:
@@ -67,7 +69,10 @@ def run_scene(scene_seed: int, n_rooms: int = 6, recognizer: str = "panorama",
             (``errand_start``, ``errand_condition``, ``errand_learn``). Each track's errands
             start from the tour's state (``TourState``: the map, the simulator and the random
             streams as the tour left them): the errands a tour of its own would give it.
-        **task: more ``PlaceNav-GuidedTour-v1`` arguments (the tour's, with ``tracks``).
+        env_id: the task: ``PlaceNav-GuidedTour-v1`` (room or image goals, by ``goal_kind``)
+            or ``PlaceNav-ImageGoal-v1`` (placenav-v5's image goals,
+            :mod:`envs.tasks.image_goal`).
+        **task: more arguments of ``env_id`` (the tour's, with ``tracks``).
 
     Returns:
         ``success_rate``, ``spl``, ``mean_length`` (steps per errand), the tour map's
@@ -81,7 +86,7 @@ def run_scene(scene_seed: int, n_rooms: int = 6, recognizer: str = "panorama",
     learned = LearnedAgent.load(policy or POLICY) if agent == "ppo" else None
     head = {"scene_seed": scene_seed, "recognizer": recognizer,
             "recognizer_params": dict(recognizer_params or {}), "agent": agent}
-    make = functools.partial(gym.make, "PlaceNav-GuidedTour-v1", recognizer=recognizer,
+    make = functools.partial(gym.make, env_id, recognizer=recognizer,
                              scene_seed=scene_seed, n_rooms=n_rooms, n_errands=goals,
                              recognizer_params=recognizer_params)
     episode = seed * 100_003 + scene_seed
@@ -181,7 +186,8 @@ def _agent(kind: str, env: gym.Env, info: dict, obs: dict, seed: int):
         rng = np.random.default_rng(seed)
         size = env.action_space.shape
         return lambda _obs: rng.uniform(-1, 1, size).astype(np.float32)
-    kind_of = {"relocalizer": RelocalizingPlanner, "spot": SpotPlanner}.get(kind, TourPlanner)
+    kind_of = {"relocalizer": RelocalizingPlanner, "spot": SpotPlanner,
+               "spot-memory": SpotMemoryPlanner}.get(kind, TourPlanner)
     planner = kind_of(unknown=hints.unknown_place(env), seed=seed)
     planner.reset(info["tour"], obs)
     return planner.act
