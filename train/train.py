@@ -25,7 +25,7 @@ from typing import Any
 import yaml
 
 from envs.agents.learned import ALGOS, learner
-from envs.tasks.vector import single_threaded_workers
+from envs.runs.vector import single_threaded_workers
 from envs.world.splits import check_split
 from placeclust.argparsing import ArgumentParser
 from train.config import HYPERPARAMS, load_config
@@ -134,7 +134,7 @@ def _one_thread_each(enabled: bool) -> Iterator[None]:
     When the workers fill the cores, a multi-threaded torch in the learner, or llvmpipe,
     OpenCV, OpenMP or OpenBLAS threads in a worker, starve the others: with 2 workers on 2
     cores the place agent ran at 53-57 steps/s with the default threads, 72-75 with one
-    OpenMP thread each (``envs.tasks.vector.single_threaded_workers`` sets the rest). Settings the
+    OpenMP thread each (``envs.runs.vector.single_threaded_workers`` sets the rest). Settings the
     user made win; all are restored afterwards.
     """
     import torch

@@ -31,6 +31,7 @@ Examples:
 from __future__ import annotations
 
 import math
+from typing import Any
 
 import numpy as np
 
@@ -57,8 +58,8 @@ class SpotMemoryPlanner(RelocalizingPlanner):
         self._way: WaypointController | None = None
         self._jumps = 0
         self._tour_spots: dict[int, np.ndarray] = {}
-        #: where it was at each errand step (its belief) and the place reported there
-        self.memory: list[tuple[float, float, int]] = []
+        #: place -> where it was (its belief) at the errand steps where that place was reported
+        self.memory: dict[int, list[tuple[float, float]]] = {}
 
     def spot(self, place: int) -> np.ndarray | None:
         """The spot of ``place``: the medoid of its tour steps, else of the errand positions
@@ -69,8 +70,10 @@ class SpotMemoryPlanner(RelocalizingPlanner):
                 self._tour_spots[place] = self.path[steps[medoid(self.path[steps])]]
         if place in self._tour_spots:
             return self._tour_spots[place]
-        seen = np.array([(x, y) for x, y, p in self.memory if p == place]).reshape(-1, 2)
-        return seen[medoid(seen)] if len(seen) else None
+        if place not in self.memory:
+            return None
+        seen = np.array(self.memory[place])
+        return seen[medoid(seen)]
 
     def act(self, obs: dict[str, np.ndarray]) -> np.ndarray:
         """The action for one step of an errand: (forward, turn, arrive)."""
@@ -79,9 +82,11 @@ class SpotMemoryPlanner(RelocalizingPlanner):
             self._errand_index, self._way, self.target = k, None, None
         goal = f"errand {k}"  # the planner's goal: the goal's place, under a name of its own
         self.names[goal] = place if place in self.graph else -1
-        action = super().act({**obs, "goal": goal})  # dead reckoning, scan matching, hops
-        if not self.lost:
-            self.memory.append((float(self.pos[0]), float(self.pos[1]), int(obs["place_id"])))
+        seen: dict[str, Any] = {**obs, "goal": goal}
+        action = super().act(seen)  # dead reckoning, scan matching, hops
+        if not self.lost and int(obs["place_id"]) != self.unknown:
+            self.memory.setdefault(int(obs["place_id"]), []).append(
+                (float(self.pos[0]), float(self.pos[1])))
         if place == self.unknown or place < 0:
             return ARRIVE  # no goal place: nowhere to go
         if self.target is None:

@@ -29,7 +29,7 @@ import numpy as np
 from placeclust.argparsing import ArgumentParser
 from placeclust.docs_section import write_section
 
-from ..tasks.vector import make_vector_env
+from ..runs.vector import make_vector_env
 from ..world.sensor import Sensor
 
 SIZES = ((512, 128), (256, 64))
@@ -137,7 +137,7 @@ def vector_speedups(width: int, height: int, steps: int, workers: int = 2, round
                     n_rooms: int = 4) -> dict[str, float]:
     """Env steps per second of ``workers`` spawned ``AsyncVectorEnv`` workers over one process
     (one env stepped in this process), measured in turn: workers with the default threads, and
-    single-threaded ones (:func:`envs.tasks.vector.make_vector_env`)."""
+    single-threaded ones (:func:`envs.runs.vector.make_vector_env`)."""
     kwargs: dict[str, Any] = {"panorama_width": width, "panorama_height": height,
                               "n_rooms": n_rooms, "max_episode_steps": None}
     make = functools.partial(gym.make, ENV_ID, **kwargs)
@@ -261,7 +261,7 @@ def main(argv: list[str] | None = None, prog: str = "placeclust speed"
     speedup = vector_speedups(w, h, args.steps, args.workers, n_rooms=rooms)
     lines += ["", f"`AsyncVectorEnv` with {args.workers} spawned workers at {w}x{h}, in env "
               f"steps per second over one process: **{speedup['single-threaded']:.2f}x** with "
-              f"single-threaded workers (`envs.tasks.vector.make_vector_env`), "
+              f"single-threaded workers (`envs.runs.vector.make_vector_env`), "
               f"{speedup['default threads']:.2f}x with the default threads ({os.cpu_count()} "
               f"CPUs; measured in turn, 3 rounds). One process already keeps {cores[0]:.2f} "
               f"cores busy, so {args.workers} workers can give at most "

@@ -14,7 +14,8 @@ v5 is v4's question, where a picture was taken, asked so that the verdict is the
 - a recognizer that can rank places answers every goal with its best-ranked place, below its
   threshold too; "unknown" is left to those that cannot rank;
 - the compass is a gyro's heading, with the drift and noise of a stated part
-  (:mod:`envs.world.compass`), and goal pictures are taken near the taught route, not on it;
+  (:class:`envs.world.robot.GyroCompass`), and goal pictures are taken near the taught route,
+  not on it;
 - the changed tracks run twice, the map learning during the errands and fixed (``-fixed``):
   what a day map is worth by night.
 

@@ -19,9 +19,10 @@ decides and nothing else (same tour, rewards, success within ``success_radius`` 
   :func:`placeclust.protocol.can_rank`) names its best-ranked place for every picture, under
   its threshold too; one that cannot rank localizes as before (``localize_one``, else
   ``predict_one``) and may say unknown.
-- **A compass like a robot's**: ``compass`` names a gyro (:mod:`envs.world.compass`, default
-  ``"mpu9250"``), whose heading error runs on from the tour's first step through every errand;
-  the tour record's ``heading`` carries it as the observations do.
+- **A compass like a robot's**: ``compass`` names a gyro
+  (:class:`envs.world.robot.GyroCompass`, default ``"mpu9250"``), whose heading error runs on
+  from the tour's first step through every errand; the tour record's ``heading`` carries it as
+  the observations do.
 - **Where success was lost**, in each errand's record: ``goal_pose`` and ``goal_room`` (the same
   for every recognizer), ``goal_place`` (−1 unknown), and for the goal's place on the tour's
   map: ``named_room`` (one of its tour frames is in the goal's room), ``named_fine`` (one lies
@@ -57,8 +58,7 @@ from scipy.spatial.distance import cdist
 from placeclust.protocol import can_localize, can_rank, reset_position, resolve
 
 from ..world.changes import clear_pose
-from ..world.compass import GyroCompass, reading
-from ..world.robot import RADIUS
+from ..world.robot import RADIUS, GyroCompass, reading
 from .errand_draws import CARRY_DRAWS
 from .errand_goals import GOAL_DRAWS, Goal, ImageGoals, TourTask
 from .guided_tour import GuidedTourEnv
@@ -200,7 +200,7 @@ class ImageGoalEnv(GuidedTourEnv):
 
     Arguments beyond ``PlaceNav-ImageGoal-v0``'s: ``goal_offset`` (0.5 m: how far off the
     taught route a goal picture is taken, at most) and ``compass`` (``"mpu9250"``, or
-    ``"ideal"`` for the true heading; :data:`~envs.world.compass.COMPASSES`). ``goal_kind`` is
+    ``"ideal"`` for the true heading; :data:`~envs.world.robot.COMPASSES`). ``goal_kind`` is
     always ``"image"``. Observations, actions, rewards and info are v0's; each errand's
     record adds the goal's pose and room and the tour map's knowledge of its place.
     """
@@ -213,9 +213,10 @@ class ImageGoalEnv(GuidedTourEnv):
         gym.utils.EzPickle.__init__(self, goal_offset=goal_offset, compass=compass, **kwargs)
         GyroCompass.part(compass, 1.0, 0)  # a ValueError naming the compasses, now
         self.compass_name = compass
-        self.goals = SharedImageGoals(self, self.goals.success_reward, self.goals.step_cost,
-                                      self.goals.shaping, self.goals.radius, goal_offset,
-                                      int(kwargs.get("scene_seed", 0)))
+        v0 = self.goals
+        assert isinstance(v0, ImageGoals)
+        self.goals = SharedImageGoals(self, v0.success_reward, v0.step_cost, v0.shaping,
+                                      v0.radius, goal_offset, int(kwargs.get("scene_seed", 0)))
         self.goal_room = self.goals.goal_room
         self._dt = self.nav.model.opt.timestep * self.nav.n_substeps
         self.compass = GyroCompass.part(compass, self._dt, 0)
@@ -233,8 +234,9 @@ class ImageGoalEnv(GuidedTourEnv):
               ) -> tuple[dict[str, Any], dict[str, Any]]:
         goals = self.goals
         assert isinstance(goals, SharedImageGoals)
-        goals.seed = int(seed) if seed is not None else int(
-            np.random.SeedSequence().generate_state(1)[0])
+        # the goals' stream: the seed itself, or (a reset without one) the next of the
+        # episodes' stream, which the last seeded reset fixed
+        goals.seed = int(seed) if seed is not None else int(self.np_random.integers(2**31))
         self.compass = GyroCompass.part(self.compass_name, self._dt,
                                         int(goals.stream(0, part=2).integers(2**31)))
         return super().reset(seed=seed, options=options)

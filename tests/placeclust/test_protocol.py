@@ -41,3 +41,27 @@ def test_the_optional_parts_have_safe_defaults():
     model = OnlinePlaceClustering(max_places=1)
     assert not map_full(model) and view(OnlinePlaceClustering(view="sides")) == "sides"
     assert RandomPlaces().learn_predict_one(None) == 0  # no image needed
+
+
+def test_a_ranker_names_a_place_where_localizing_leaves_it_unknown():
+    """Seed 001's mapper localizes only with min_matches; its ranking answers every frame with
+    features, best first, and agrees with localize_one where that answers."""
+    from placeclust.nested import NestedMapper
+    from placeclust.online import OnlinePlaceClustering
+    from placeclust.protocol import can_rank
+    from placeclust.synthetic import places
+
+    frames, _ = places(4)
+    strict = NestedMapper(min_matches=10_000)
+    loose = NestedMapper()
+    for frame in frames:
+        strict.learn_predict_one(frame)
+        loose.learn_predict_one(frame)
+    assert can_rank(NestedMapper) and can_rank(OnlinePlaceClustering)
+    strict.reset_position()
+    loose.reset_position()
+    assert strict.localize_one(frames[0]) == -1
+    ranked = strict.rank_places(frames[0], n=5)
+    assert ranked and ranked[0] == loose.localize_one(frames[0])
+    assert len(set(ranked)) == len(ranked) <= 5
+    assert strict.rank_places(np.zeros_like(frames[0])) == []

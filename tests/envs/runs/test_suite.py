@@ -135,3 +135,24 @@ def test_a_suite_of_tracks_runs_them_all_with_its_agent(monkeypatch, tmp_path, c
         assert doc["settings"]["track"] == track and doc["provenance"]["suite"] == "tracked-v0"
         assert doc["settings"]["scene_seeds"] == suite.scene_seeds("quick", track)
     assert len(list((tmp_path / "runs").glob("*.json"))) == 2  # one tour a recognizer
+
+
+def test_placenav_v5_asks_v4s_question_with_the_same_goals_for_all():
+    """v5 runs PlaceNav-ImageGoal-v1 with the spot agent that remembers its errands, the
+    gyro's heading and goals off the route; its changed tracks run on a fixed map too, and a
+    building's one tour serves every lit track."""
+    v5, v4 = SUITES["placenav-v5"], SUITES["placenav-v4"]
+    assert v5.agent == "spot-memory" and v5.goals == v4.goals
+    assert set(v4.track_names) < set(v5.track_names)
+    fixed = v5.task(track="changed-night-fixed")
+    assert fixed["errand_learn"] is False and fixed["errand_condition"] == "night"
+    assert {k: fixed[k] for k in ("env_id", "goal_kind", "compass")} == {
+        "env_id": "PlaceNav-ImageGoal-v1", "goal_kind": "image", "compass": "mpu9250"}
+    assert "env_id" not in v4.task(track="continued")  # v4's jobs keep their names
+    settings = {t: {"scene_seeds": v5.scene_seeds("quick", t), "task": v5.task(track=t)}
+                for t in v5.track_names}
+    jobs = leaderboard.suite_jobs(settings, ["oracle"], n_rooms=6, agent=v5.agent,
+                                  goals=v5.goals, seed=v5.seed)
+    lit = [j for j in jobs if j.get("local_light")]
+    assert len(lit) == 1 and len(lit[0]["tracks"]) == 8
+    assert all(j["env_id"] == "PlaceNav-ImageGoal-v1" for j in jobs)

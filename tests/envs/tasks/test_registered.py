@@ -30,7 +30,7 @@ IDS = sorted(spec.id for spec in gym.registry.values()
 
 def test_the_package_registers_its_envs():
     assert IDS == ["PlaceNav-GuidedTour-v0", "PlaceNav-GuidedTour-v1", "PlaceNav-ImageGoal-v0",
-                   "PlaceNav-ReachRoom-v0", "PlaceNav-v0"]
+                   "PlaceNav-ImageGoal-v1", "PlaceNav-ReachRoom-v0", "PlaceNav-v0"]
 
 
 @pytest.mark.parametrize("env_id", IDS)

@@ -6,7 +6,7 @@ import gymnasium as gym
 import numpy as np
 import pytest
 
-from envs.tasks.vector import WORKER_THREADS, make_vector_env, single_threaded_workers
+from envs.runs.vector import WORKER_THREADS, make_vector_env, single_threaded_workers
 
 
 def test_single_threaded_workers_see_what_one_env_sees():

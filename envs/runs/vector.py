@@ -59,7 +59,7 @@ def make_vector_env(num_envs: int, env_id: str = "PlaceNav-v0", **kwargs: Any
     worker processes.
 
     Example:
-        >>> from envs.tasks.vector import make_vector_env
+        >>> from envs.runs.vector import make_vector_env
         >>> vec = make_vector_env(2, panorama_width=64, panorama_height=16, n_rooms=2)
         >>> obs, info = vec.reset(seed=0)
         >>> obs["panorama"].shape
