@@ -13,10 +13,10 @@ its 95% interval over buildings (:mod:`placeclust.stats`):
 | spot | the place's spot lies within 1 m of the goal | the place is fine enough to succeed |
 | success | the agent stopped within 1 m | the errand |
 | driving | success, of the errands whose spot was within 1 m | the way there, not the map |
-| first step | the agent declared arrival on the errand's first step | stops by rule (v4's) |
+| first step | arrival declared on its first step, the goal's place known | it stood at the spot |
 
-So success ≤ spot ≤ within 1 m, up to the driving: a recognizer below true rooms on success
-but level on "within 1 m" lost to coarse places, one level on "spot" lost on the way.
+Roughly, success ≈ spot × driving, and spot ≤ within 1 m ≤ room: a recognizer below true rooms
+on success but level on "within 1 m" lost to coarse places, one level on "spot" lost on the way.
 
 Examples:
     >>> rows = [{"recognizer": "r", "scene_seed": s, "errands": [
@@ -43,8 +43,8 @@ def _value(errand: dict[str, Any], column: str) -> float | None:
     """One errand's value of ``column`` (None where the errand does not count for it)."""
     if column == "driving" and not errand["spot_within"]:
         return None
-    if column == "first step":
-        return float(errand["steps"] == 1)
+    if column == "first step":  # with a goal place: an unknown one stops by the agent's rule
+        return float(errand["steps"] == 1 and not errand["unknown"])
     return float(errand[COLUMNS[column]])
 
 
@@ -78,7 +78,8 @@ def decomposition_table(docs: dict[str, dict[str, Any]]) -> str:
     lines = ["Where success was lost (`envs.runs.decomposition`): of all errands, the goal "
              "picture unknown; its place holding a tour frame in the goal's room, within 1 m "
              "of the goal; its spot within 1 m; success; success where the spot was within "
-             "1 m (the driving); arrival declared on the first step.", "",
+             "1 m (the driving); arrival declared on the first step, the goal's place known.",
+             "",
              "| track | recognizer | " + " | ".join(COLUMNS) + " |",
              "|---|---|" + "---|" * len(COLUMNS)]
     for row in decomposition(docs):

@@ -157,9 +157,16 @@ class SharedImageGoals(ImageGoals):
     def _localize(self, env: TourTask, goal: Goal) -> int:
         """The true rooms' answer (a calibration oracle's own), else the recognizer's on a copy
         of its map that has forgotten where the robot is: its best-ranked place where it ranks,
-        else ``localize_one``, else ``predict_one``."""
-        if env.bound_truth is not None or env.recognizer is None or self.image is None:
+        else ``localize_one``, else ``predict_one``. A recognizer that reads no images cannot
+        see the picture: its answer is a guess, a place of its map drawn from the goal's stream
+        (``random``; none without places), not its next answer, which would follow the robot
+        (``random`` holds an id for a second: the place it just stopped in, again)."""
+        if env.bound_truth is not None or env.recognizer is None:
             return super()._localize(env, goal)
+        if self.image is None:
+            places = sorted(env.recognizer.graph.nodes)
+            guess = self.stream(len(env.errands), part=3)
+            return int(places[int(guess.integers(len(places)))]) if places else -1
         model = copy.deepcopy(env.recognizer)
         reset_position(model)
         if can_rank(model):
