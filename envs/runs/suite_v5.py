@@ -42,8 +42,9 @@ V5_TRACKS: tuple[tuple[str, dict[str, Any], str], ...] = tuple(
                             ("cloudy", "under cloud"),
                             ("moved", "after furniture moved and posters were swapped,")))
 
-#: m: how far from the taught route a goal picture is taken, at most (uniform in the disc;
-#: provisional until the val pilot chooses it, docs/design.md)
+#: m: how far from the taught route a goal picture is taken, at most (uniform in the disc):
+#: the farthest of 0.25, 0.5, 0.75 that kept the ceiling above 0.90 on every val track with a
+#: margin (docs/design.md, "placenav-v5")
 GOAL_OFFSET = 0.5
 
 #: ``placenav-v5``: :class:`~envs.runs.suite.Suite`'s arguments
