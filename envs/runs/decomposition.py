@@ -17,8 +17,9 @@ its 95% interval over buildings (:mod:`placeclust.stats`):
 
 "Room", "within 1 m" and "spot" are what the *tour's* map knew; on a learning map the agent
 also drives to spots it remembers from the errands (a place opened by night), so success may
-exceed "spot" there. Roughly, success ≈ spot × driving, and spot ≤ within 1 m ≤ room: a recognizer below true rooms
-on success but level on "within 1 m" lost to coarse places, one level on "spot" lost on the way.
+exceed "spot" there. Roughly, success ≈ spot × driving, and spot ≤ within 1 m ≤ room: a
+recognizer below true rooms on success but level on "within 1 m" lost to coarse places, one
+level on "spot" lost on the way.
 
 Examples:
     >>> rows = [{"recognizer": "r", "scene_seed": s, "errands": [
