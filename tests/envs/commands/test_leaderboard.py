@@ -274,7 +274,8 @@ def test_the_lit_tracks_share_one_tour_and_the_corridor_tracks_another():
     assert len(jobs) == 4  # two tours a building
     lit = [j for j in jobs if j.get("local_light")]
     assert {tuple(sorted(j["tracks"])) for j in lit} == {(
-        "carried", "changed-cloudy", "changed-moved", "changed-night", "continued")}
+        "carried", "changed-cloudy", "changed-cloudy-fixed", "changed-moved",
+        "changed-moved-fixed", "changed-night", "changed-night-fixed", "continued")}
     corridor = [j for j in jobs if j.get("layout") == "corridor"]
     assert {tuple(sorted(j["tracks"])) for j in corridor} == {("corridor", "corridor-carried")}
     assert all(not j.get("local_light") for j in corridor)

@@ -18,7 +18,7 @@ TOUR = {"recognizer": "oracle", "n_rooms": 3, "n_errands": 1, "tour_steps_per_ro
 #: each registered id with the arguments that make it small, and the wrapper SB3 needs
 IDS = {"PlaceNav-v0": (SMALL, None), "PlaceNav-ReachRoom-v0": (SMALL, None),
        "PlaceNav-GuidedTour-v1": (TOUR, HeardGoal), "PlaceNav-GuidedTour-v0": (TOUR, HeardGoal),
-       "PlaceNav-ImageGoal-v0": (TOUR, None)}
+       "PlaceNav-ImageGoal-v0": (TOUR, None), "PlaceNav-ImageGoal-v1": (TOUR, None)}
 
 
 def test_every_registered_id_is_listed_here():
