@@ -94,6 +94,8 @@ class SharedImageGoals(ImageGoals):
             raise ValueError(f"goal_offset must be 0 or more metres, got {offset}")
         self.offset, self.scene_seed, self.seed = float(offset), int(scene_seed), 0
         self._anchor: tuple[np.ndarray, int] = (np.zeros(3), -1)
+        #: what the tour's map knew of the last goal's place (:meth:`_known`)
+        self.known: dict[str, Any] = {}
 
     def stream(self, k: int, part: int = 0) -> np.random.Generator:
         """Goal ``k``'s random stream (``part`` 1: its carried start's; ``k`` 0, ``part`` 2:
@@ -183,23 +185,24 @@ class SharedImageGoals(ImageGoals):
         places = getattr(env, "tour_places", np.zeros(0, np.int64))
         unknown = not 0 <= goal.place < env.max_places
         steps = np.flatnonzero(places == goal.place) if not unknown else np.zeros(0, int)
-        inside = steps[env.tour_rooms[steps] >= 0]
         out = {"unknown": unknown, "named_room": bool((env.tour_rooms[steps] == goal.room).any()),
                "named_fine": False, "spot_within": False}
-        if inside.size == 0:
+        if steps.size == 0:
             return out
-        walks = [self._walk_to(goal, env.tour_poses[t], int(env.tour_rooms[t])) for t in inside]
+        walks = [self._walk_to(goal, env, int(t)) for t in steps]
         out["named_fine"] = bool(min(walks) <= self.radius)
-        spot = inside[medoid(env.tour_poses[inside, :2])]
-        out["spot_within"] = bool(self._walk_to(goal, env.tour_poses[spot],
-                                                int(env.tour_rooms[spot])) <= self.radius)
+        spot = steps[medoid(env.tour_poses[steps, :2])]  # the spot agent's, in true positions
+        out["spot_within"] = bool(walks[list(steps).index(spot)] <= self.radius)
         return out
 
-    def _walk_to(self, goal: Goal, pose: np.ndarray, room: int) -> float:
+    def _walk_to(self, goal: Goal, env: TourTask, t: int) -> float:
+        """Walking distance from the goal to tour step ``t`` (a doorway's step: in the room
+        whose rectangle holds it)."""
         assert goal.pose is not None
+        pose, room = env.tour_poses[t], int(env.tour_rooms[t])
         if room == goal.room:  # within a room the straight line: no graph search per step
             return math.dist(goal.pose[:2], pose[:2])
-        return self.walk(goal.pose, pose, goal.room, room)
+        return self.walk(goal.pose, pose, goal.room, None if room < 0 else room)
 
 
 class ImageGoalEnv(GuidedTourEnv):
