@@ -189,13 +189,20 @@ class GyroCompass:
 
     def errors(self, n: int) -> np.ndarray:
         """(n,) the heading error at steps 0 .. n-1 (0 at step 0), drawn once and kept."""
-        if len(self._errors) < n:
-            self._errors = np.concatenate([self._errors, self._draw(n - len(self._errors))])
+        self._extend(n)
         return self._errors[:n].copy()
 
     def error(self, step: int) -> float:
-        """The heading error at control step ``step``."""
-        return float(self.errors(step + 1)[step])
+        """The heading error at control step ``step`` (read once a step: no copy)."""
+        self._extend(step + 1)
+        return float(self._errors[step])
+
+    def _extend(self, n: int) -> None:
+        """Draw at least ``n`` errors, doubling what is kept (a step at a time would copy the
+        whole stream each step); the stream is the same however far ahead it is drawn."""
+        if len(self._errors) < n:
+            more = max(n, 2 * len(self._errors), 1024) - len(self._errors)
+            self._errors = np.concatenate([self._errors, self._draw(more)])
 
     def _draw(self, n: int) -> np.ndarray:
         """The next ``n`` errors: one increment each (none before step 0), so that the stream
