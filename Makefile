@@ -121,7 +121,7 @@ benchmarks: $(VENV)/.installed
 	$(MAKE) real-images
 	$(VENV)/bin/placeclust speed $(DOCS)
 	$(MAKE) agents-tour
-	$(VENV)/bin/placeclust leaderboard --split val --n-scenes 8 --goals-per-scene 5 \
+	$(VENV)/bin/placeclust leaderboard --split val --n-scenes 8 --errands 5 \
 		--recognizers oracle panorama panorama-orb random --out runs/pilot-val $(DOCS)
 	$(VENV)/bin/placeclust leaderboard --suite placenav-v1 --out runs/leaderboard $(DOCS)
 	$(VENV)/bin/placeclust compare runs/leaderboard/results.json runs/leaderboard/results.json \
@@ -251,7 +251,7 @@ LSTM_POLICIES ?= runs/train
 TOUR_RUNS := noplace:none:noplace noplace_lstm:none:noplace_lstm \
 	place:panorama-orb:place place_lstm:oracle:place_lstm place_true:oracle:place \
 	oracle:oracle:oracle
-AGENT_ERRANDS := --split test --n-scenes 20 --rooms 6 --goals-per-scene 5 --workers 2 \
+AGENT_ERRANDS := --split test --n-scenes 20 --rooms 6 --errands 5 --workers 2 \
 	--errand-start carried --agent ppo
 agents-tour: $(VENV)/.installed
 	for l in grid corridor; do for run in $(TOUR_RUNS); do \

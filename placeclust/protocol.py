@@ -131,6 +131,34 @@ def resolve(model: object, places: np.ndarray) -> np.ndarray:
     return np.asarray(model.resolve(ids), np.int64) if isinstance(model, Merging) else ids
 
 
+def place_of(model: object, frame: np.ndarray, rank: bool = True) -> int:
+    """The place ``model`` names for a picture taken anywhere on its map, learning nothing
+    and leaving ``model`` as it was: asked of a copy that has forgotten where the robot is
+    (:func:`reset_position`), so the whole map is searched and the robot's own tracking does
+    not move. Its best-ranked place where it ranks and ``rank`` (an answer below its
+    threshold too; -1 for an empty map), else ``localize_one`` (the fixed map's query, with
+    its own threshold), else ``predict_one``. The one way a goal picture is localized: by the
+    image-goal envs and by an agent given a goal panorama.
+
+    >>> from placeclust.online import OnlinePlaceClustering
+    >>> rng = np.random.default_rng(0)
+    >>> frames = rng.integers(0, 255, size=(2, 32, 64, 3), dtype=np.uint8)
+    >>> model = OnlinePlaceClustering(features="orb")
+    >>> [model.learn_predict_one(f) for f in frames] == [place_of(model, f) for f in frames]
+    True
+    """
+    import copy
+
+    model = copy.deepcopy(model)
+    reset_position(model)
+    if rank and can_rank(model):
+        ranked = model.rank_places(frame, n=1)  # type: ignore[attr-defined]
+        return int(ranked[0]) if len(ranked) else -1
+    if can_localize(model):
+        return int(model.localize_one(frame))  # type: ignore[attr-defined]
+    return int(model.predict_one(frame))  # type: ignore[attr-defined]
+
+
 def reads_images(model: object) -> bool:
     """Whether ``model`` looks at frames (``reads_images``, default True)."""
     return bool(getattr(model, "reads_images", True))

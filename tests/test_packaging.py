@@ -94,7 +94,7 @@ def test_the_installed_wheel_works_outside_the_repository(wheel, tmp_path):
     # agent (its policy file is package data), on the true rooms (the recognizers' own
     # checks are placeclust's tests)
     scores = run(placeclust, "errands", "--scene-seeds", "0", "--rooms", "3",
-                 "--recognizer", "oracle", "--agent", "ppo", "--goals-per-scene", "1",
+                 "--recognizer", "oracle", "--agent", "ppo", "--errands", "1",
                  "--tour-steps-per-room", "40", "--json", "ppo.json")
     assert "success_rate=" in scores and (work / "ppo.json").is_file()
     # a leaderboard of a recognizer of the user's own, from a module in the folder they work
@@ -102,7 +102,7 @@ def test_the_installed_wheel_works_outside_the_repository(wheel, tmp_path):
     shutil.copy(ROOT / "examples" / "tiny_recognizer.py", work / "mine.py")
     table = run(placeclust, "leaderboard", "--scene-seeds", "0", "1", "--rooms", "3",
                 "--recognizers", "oracle", "mine:HaarPlaces", "--param", "threshold=0.8",
-                "--goals-per-scene", "1", "--tour-steps-per-room", "40", "--workers", "1",
+                "--errands", "1", "--tour-steps-per-room", "40", "--workers", "1",
                 "--out", "board")
     assert "| oracle | 1.00 [1.00, 1.00] |" in table
     results = str(work / "board" / "results.json")

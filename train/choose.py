@@ -27,8 +27,9 @@ from typing import Any
 
 import yaml
 
-from envs.runs.jobs import TOUR_STEPS_PER_ROOM, make_jobs, run_jobs, tour_task
+from envs.runs.jobs import make_jobs, run_jobs
 from envs.runs.results import summarize
+from envs.runs.task_spec import ErrandTask
 from envs.world.layout import room_count
 from envs.world.scene import LAYOUTS
 from envs.world.splits import scenes
@@ -59,7 +60,7 @@ def candidates(run: Path) -> list[tuple[int, Path]]:
     return sorted(found, key=lambda c: (c[0], c[1].name == "policy.zip"))
 
 
-def choose(run: Path, n_scenes: int = 4, rooms: int = 6, goals: int = 5,
+def choose(run: Path, n_scenes: int = 4, rooms: int = 6, n_errands: int = 5,
            recognizer: str | None = None, layouts: list[str] | None = None, seed: int = 0,
            workers: int = 1, progress: bool = True) -> dict[str, Any]:
     """Score every candidate of ``run`` on the first ``n_scenes`` ``val`` buildings of each
@@ -68,7 +69,7 @@ def choose(run: Path, n_scenes: int = 4, rooms: int = 6, goals: int = 5,
 
     Args:
         run: a :mod:`train.train` run folder.
-        n_scenes, rooms, goals, seed: the ``val`` buildings (per layout), their rooms,
+        n_scenes, rooms, n_errands, seed: the ``val`` buildings (per layout), their rooms,
             errands each and the episodes' seed.
         recognizer: the map's recognizer (default: the run's training one).
         layouts: the buildings' layouts (default: the run's).
@@ -82,13 +83,13 @@ def choose(run: Path, n_scenes: int = 4, rooms: int = 6, goals: int = 5,
     layouts = layouts or _layouts(env)
     errand_start = env.get("errand_start", "continue")
     seeds = list(scenes("val", n_scenes))
-    tasks = [tour_task(env.get("tour_steps_per_room", TOUR_STEPS_PER_ROOM), errand_start, layout)
-             for layout in layouts]
+    steps = env.get("tour_steps_per_room", ErrandTask().tour_steps_per_room)
+    tasks = [ErrandTask(n_errands=n_errands, tour_steps_per_room=steps,
+                        errand_start=errand_start, layout=layout) for layout in layouts]
     scored = []
     for decisions, policy in candidates(run):
         jobs = [job for task in tasks
-                for job in make_jobs(seeds, [recognizer], rooms, "ppo", goals, seed, policy,
-                                     **task)]
+                for job in make_jobs(seeds, [recognizer], task, rooms, "ppo", seed, policy)]
         summary = summarize(run_jobs(jobs, run / "choice", workers, progress=progress))
         scored.append({"decisions": decisions, "policy": str(policy.relative_to(run)),
                        **{k: summary[k] for k in ("success_rate", "success_rate_interval",
@@ -96,7 +97,7 @@ def choose(run: Path, n_scenes: int = 4, rooms: int = 6, goals: int = 5,
     best = max(scored, key=lambda c: (c["success_rate"], c["spl"], c["decisions"]))
     shutil.copy(run / best["policy"], run / BEST)
     record = {"split": "val", "scene_seeds": seeds, "layouts": layouts, "rooms": rooms,
-              "goals": goals, "seed": seed, "recognizer": recognizer,
+              "n_errands": n_errands, "seed": seed, "recognizer": recognizer,
               "errand_start": errand_start,
               "rule": "highest success, then SPL, then the later policy",
               "candidates": scored, "chosen": best}
@@ -123,7 +124,8 @@ def main(argv: list[str] | None = None) -> int:
     p.add_argument("run", type=Path, help="a run folder of python -m train.train")
     p.add_argument("--n-scenes", type=int, default=4, help="val buildings of each layout")
     p.add_argument("--rooms", type=room_count, default=6)
-    p.add_argument("--goals-per-scene", type=int, default=5)
+    p.add_argument("--errands", "--goals-per-scene", dest="errands", type=int, default=5,
+                   metavar="N", help="errands a building (--goals-per-scene: its old name)")
     p.add_argument("--recognizer", help="the map's recognizer (default: the run's training "
                    "one)")
     p.add_argument("--layout", choices=LAYOUTS, nargs="+", help="default: the run's")
@@ -131,10 +133,10 @@ def main(argv: list[str] | None = None) -> int:
     p.add_argument("--workers", type=int, default=1)
     p.add_argument("--no-progress", action="store_true")
     args = p.parse_args(argv)
-    if min(args.n_scenes, args.rooms, args.goals_per_scene) < 1:
-        p.error("--n-scenes, --rooms and --goals-per-scene must be positive")
+    if min(args.n_scenes, args.rooms, args.errands) < 1:
+        p.error("--n-scenes, --rooms and --errands must be positive")
     try:
-        record = choose(args.run, args.n_scenes, args.rooms, args.goals_per_scene,
+        record = choose(args.run, args.n_scenes, args.rooms, args.errands,
                         args.recognizer, args.layout, args.seed, args.workers,
                         not args.no_progress)
     except (ValueError, FileNotFoundError) as e:

@@ -179,7 +179,7 @@ def main(argv: list[str] | None = None) -> int:
     first = next(iter(docs.values()))
     seeds = sorted({r["scene_seed"] for r in first["buildings"]})
     task = ", ".join(f"{k} {v}" for k, v in (first["settings"].get("task") or {}).items())
-    errands = first["summaries"][0]["errands"]
+    errands = first["summaries"][0]["n_errands"]
     top = args.against[0]
     bracket = (f"`{top}` is at or above every other agent within its interval." if not below
                else f"`{top}` is below {', '.join(f'`{n}`' for n in below)} beyond the "

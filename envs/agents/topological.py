@@ -18,6 +18,7 @@ import networkx as nx
 import numpy as np
 
 from placeclust import UNKNOWN, OnlinePlaceClustering
+from placeclust.protocol import place_of
 
 from ..world.robot import N_RANGES
 
@@ -66,12 +67,8 @@ class TopologicalPlanner:
 
     def reset(self, goal_panorama: np.ndarray) -> None:
         """Start an episode: find the goal panorama's place anywhere on the map."""
-        here = self.recognizer.current
-        self.recognizer.reset_position()
-        try:  # localize_one moves the recognizer's current place; the robot is not there
-            self.goal_place = self.recognizer.localize_one(goal_panorama)
-        finally:
-            self.recognizer.current = here
+        # asked of a copy: the robot is not where the panorama was taken
+        self.goal_place = place_of(self.recognizer, goal_panorama, rank=False)
         self.place = UNKNOWN
 
     def next_heading(self, place: int) -> float | None:

@@ -1,12 +1,12 @@
 """Errands in buildings never seen: one guided tour per building, then errands to named rooms.
 
 Each building of a split gets one episode of ``PlaceNav-GuidedTour-v1``: the tour builds the
-recognizer's map from nothing, then the agent runs ``goals`` errands on it. Nothing is trained
+recognizer's map from nothing, then the agent runs ``--errands`` errands on it. Nothing is trained
 on the building and nothing is retrained when the recognizer changes, so the success rate
 ranks recognizers by what their maps are worth to an agent.
 
     placeclust errands --split test --rooms 6 --recognizer panorama \\
-        --goals-per-scene 5 --seed 0 --json runs/unseen.json
+        --errands 5 --seed 0 --json runs/unseen.json
     placeclust errands --split val --recognizer mypackage.module:MyRecognizer \\
         [--preset panorama] [--param threshold=0.8]       # a recognizer of your own
 
@@ -16,7 +16,7 @@ on the given parameters stops the command with one line of error (exit status 2)
 
 Examples:
     >>> from envs.runs.tour_errands import run_scene
-    >>> row = run_scene(0, n_rooms=3, recognizer="oracle", goals=2, seed=0,
+    >>> row = run_scene(0, n_rooms=3, recognizer="oracle", n_errands=2, seed=0,
     ...                 tour_steps_per_room=40)
     >>> row["success_rate"], row["precision"]
     (1.0, 1.0)
@@ -26,6 +26,7 @@ from __future__ import annotations
 
 import argparse
 import sys
+from dataclasses import replace
 from pathlib import Path
 from typing import Any
 
@@ -34,9 +35,10 @@ from placeclust.checks import check_recognizer
 from placeclust.presets import PRESETS
 from placeclust.runner import preset_params, recognizer_class
 
-from ..runs.jobs import TOUR_STEPS_PER_ROOM, make_jobs, run_jobs, tour_task
+from ..runs.jobs import make_jobs, run_jobs
 from ..runs.results import interval_text, summarize, write_results
 from ..runs.suite import TRACKS, provenance, track_task
+from ..runs.task_spec import GOAL_KINDS, ErrandTask
 from ..runs.tour_errands import ERRAND_AGENTS, check_agent, check_goals
 from ..tasks.errand_draws import ERRAND_STARTS
 from ..tasks.recognizers import (
@@ -68,16 +70,34 @@ def check_closed_loop_recognizer(name: str, params: dict[str, Any] | None = None
             raise ValueError(f"{name} is not a recognizer placeclust can run: {exc}") from exc
 
 
+class _OldName(argparse.Action):
+    """Stores the value; an option's old spelling (its second) also prints one line that
+    names the new one (placeclust 0.19.0 renamed ``--goals-per-scene`` ``--errands``)."""
+
+    def __call__(self, parser: argparse.ArgumentParser, namespace: argparse.Namespace,
+                 values: Any, option_string: str | None = None) -> None:
+        if option_string == self.option_strings[-1]:
+            print(f"note: {option_string} is now {self.option_strings[0]}", file=sys.stderr)
+        setattr(namespace, self.dest, values)
+
+
 def add_task_arguments(p: argparse.ArgumentParser, many_tracks: bool = False) -> None:
-    """The options that say which errands run: ``--tour-steps-per-room``, ``--errand-start``,
-    ``--layout``, a named ``--track`` (:mod:`envs.runs.suite`; several if
-    ``many_tracks``, into ``args.tracks``) and ``--localize-only``."""
-    p.add_argument("--tour-steps-per-room", type=int, default=TOUR_STEPS_PER_ROOM,
+    """The options that say which errands run (:class:`~envs.runs.task_spec.ErrandTask`):
+    ``--errands``, ``--tour-steps-per-room``, ``--errand-start``, ``--layout``, ``--doors``,
+    ``--local-light``, a named ``--track`` (:mod:`envs.runs.suite`; several if
+    ``many_tracks``, into ``args.tracks``), ``--goal-kind``, ``--success-radius`` and
+    ``--localize-only``."""
+    default = ErrandTask()
+    p.add_argument("--errands", "--goals-per-scene", dest="errands", type=int,
+                   action=_OldName, default=default.n_errands, metavar="N",
+                   help="errands after each building's tour (the env's n_errands; "
+                   "--goals-per-scene is its old name)")
+    p.add_argument("--tour-steps-per-room", type=int, default=default.tour_steps_per_room,
                    help="the guided tour's length per room (PlaceNav-GuidedTour-v1's)")
-    p.add_argument("--errand-start", choices=ERRAND_STARTS, default="continue",
+    p.add_argument("--errand-start", choices=ERRAND_STARTS, default=default.errand_start,
                    help="where each errand starts: where the last ended, or carried to a "
                    "random room (PlaceNav-GuidedTour-v1's errand_start)")
-    p.add_argument("--layout", choices=LAYOUTS, default="grid",
+    p.add_argument("--layout", choices=LAYOUTS, default=default.layout,
                    help="the buildings: rooms of random sizes, or identical offices along a "
                    "corridor (--rooms counts the corridor)")
     p.add_argument("--doors", type=float, metavar="F", help="buildings with doors: F of the "
@@ -92,53 +112,54 @@ def add_task_arguments(p: argparse.ArgumentParser, many_tracks: bool = False) ->
     else:
         p.add_argument("--track", choices=list(TRACKS), help="a named track's errands "
                        "(envs.runs.suite): changed-night, carried, corridor...")
-    p.add_argument("--goal-kind", choices=("room", "image"), default="room", help="errands to a "
-                   "named room, or to a picture of a spot (PlaceNav-ImageGoal-v0; the spot "
-                   "agent)")
-    p.add_argument("--success-radius", type=float, default=1.0, metavar="M", help="an image "
-                   "goal is reached by stopping within M metres of walking of it (default 1)")
+    p.add_argument("--goal-kind", choices=GOAL_KINDS, default=default.goal_kind,
+                   help="errands to a named room, or to a picture of a spot "
+                   "(PlaceNav-ImageGoal-v0; the spot agent)")
+    p.add_argument("--success-radius", type=float, default=default.success_radius,
+                   metavar="M", help="an image goal is reached by stopping within M metres of "
+                   "walking of it (default 1)")
     p.add_argument("--localize-only", action="store_true", help="the map is the tour's and "
                    "stays fixed during the errands (localize_one); recognizers without it are "
                    "skipped")
 
 
-def task_from_args(args: argparse.Namespace, track: str | None = None) -> dict[str, Any]:
-    """The ``PlaceNav-GuidedTour-v1`` arguments of :func:`add_task_arguments`' options, for
-    ``track`` (default: ``args.track``, if any).
+def task_from_args(args: argparse.Namespace, track: str | None = None) -> ErrandTask:
+    """The errands :func:`add_task_arguments`' options ask for, for ``track`` (default:
+    ``args.track``, if any).
 
     Raises:
-        ValueError: an option that contradicts the track's own setting of it.
+        ValueError: a bad value, or an option that contradicts the track's own setting of it.
     """
+    radius = args.success_radius if args.goal_kind == "image" else ErrandTask().success_radius
+    if args.goal_kind == "image" and not radius > 0:  # the option's name, not the field's
+        raise ValueError(f"--success-radius must be positive metres, got {radius}")
     if args.doors is not None and not 0 <= args.doors <= 1:
         raise ValueError(f"--doors must be a fraction in [0, 1], got {args.doors}")
-    task = tour_task(args.tour_steps_per_room, args.errand_start, args.layout, args.doors,
-                     args.local_light)
+    if args.errands < 1 or args.tour_steps_per_room < 1:
+        raise ValueError("--errands and --tour-steps-per-room must be positive, got "
+                         f"{args.errands} and {args.tour_steps_per_room}")
+    task = ErrandTask(n_errands=args.errands, tour_steps_per_room=args.tour_steps_per_room,
+                      errand_start=args.errand_start, layout=args.layout, doors=args.doors,
+                      local_light=args.local_light, goal_kind=args.goal_kind,
+                      success_radius=radius)
     track = track or getattr(args, "track", None)
     if track:
-        for key, value in track_task(track).items():
-            if task.get(key, value) != value:
-                raise ValueError(f"--track {track} sets {key}={value!r}; leave out the "
-                                 f"option that sets it to {task[key]!r}")
-            task[key] = value
+        task = task.with_settings(track_task(track), f"--track {track}")
     if args.localize_only:
-        task["errand_learn"] = False
-    if getattr(args, "goal_kind", "room") == "image":  # PlaceNav-ImageGoal-v0's errands
-        if not args.success_radius > 0:
-            raise ValueError(f"--success-radius must be positive metres, got "
-                             f"{args.success_radius}")
-        task.update(goal_kind="image", success_radius=args.success_radius)
+        task = replace(task, errand_learn=False)
     return task
 
 
-def run_settings(args: argparse.Namespace, seeds: list[int], task: dict[str, Any],
+def run_settings(args: argparse.Namespace, seeds: list[int], task: ErrandTask,
                  track: str | None = None) -> dict[str, Any]:
     """What a results file's ``settings`` say a run measured (``placeclust compare`` pairs
-    only runs whose settings agree), from a command's ``split``, ``rooms``,
-    ``goals_per_scene``, ``seed`` and ``agent``."""
+    only runs whose settings agree): the command's ``split``, ``rooms``, ``seed``, ``agent``
+    and ``policy``, the buildings, and the task's errand count and other env arguments."""
+    kwargs = task.kwargs()
     return {"split": args.split, "scene_seeds": seeds, "rooms": args.rooms,
-            "goals": args.goals_per_scene, "seed": args.seed, "agent": args.agent,
+            "n_errands": kwargs.pop("n_errands"), "seed": args.seed, "agent": args.agent,
             "policy": None if getattr(args, "policy", None) is None else str(args.policy),
-            "task": task, **({"track": track} if track else {})}
+            "task": kwargs, **({"track": track} if track else {})}
 
 
 def add_recognizer_arguments(p: argparse.ArgumentParser, many: bool) -> None:
@@ -188,7 +209,6 @@ def main(argv: list[str] | None = None, prog: str = "placeclust errands") -> int
     add_recognizer_arguments(p, many=False)
     p.add_argument("--agent", choices=ERRAND_AGENTS, default="planner")
     p.add_argument("--policy", type=Path, help="the ppo agent's policy (default: shipped)")
-    p.add_argument("--goals-per-scene", type=int, default=5)
     add_task_arguments(p)
     p.add_argument("--seed", type=int, default=0)
     p.add_argument("--json", type=Path, help="also write the scores here")
@@ -196,20 +216,16 @@ def main(argv: list[str] | None = None, prog: str = "placeclust errands") -> int
     p.add_argument("--out", type=Path, help="keep each building's result here and resume")
     args = p.parse_args(argv)
     seeds = scope_seeds(args, p)
-    if args.goals_per_scene < 1 or args.tour_steps_per_room < 1:
-        p.error("--goals-per-scene and --tour-steps-per-room must be positive, got "
-                f"{args.goals_per_scene} and {args.tour_steps_per_room}")
     try:
         check_agent(args.agent, args.policy)
         params = recognizer_params([args.recognizer], args.preset, args.param)
         task = task_from_args(args)
-        check_goals(args.agent, task)
-        if task.get("errand_learn") is False and not localizes(args.recognizer,
-                                                                params[args.recognizer]):
+        check_goals(args.agent, [task])
+        if not task.errand_learn and not localizes(args.recognizer, params[args.recognizer]):
             raise ValueError(f"{args.recognizer} cannot localize on a fixed map (no "
                              "localize_one); leave out --localize-only")
-        jobs = make_jobs(seeds, [args.recognizer], args.rooms, args.agent,
-                         args.goals_per_scene, args.seed, args.policy, params, **task)
+        jobs = make_jobs(seeds, [args.recognizer], task, args.rooms, args.agent, args.seed,
+                         args.policy, params)
         rows = run_jobs(jobs, args.out, args.workers)
     except (ValueError, FileNotFoundError) as e:
         print(f"error: {e}", file=sys.stderr)

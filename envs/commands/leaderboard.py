@@ -4,7 +4,8 @@
         --out runs/leaderboard [--recognizers oracle panorama mypackage.module:Mine ...] \\
         [--preset NAME] [--param NAME=VALUE] [--agent planner] \\
         [--workers N] [--executor process|ray] [--docs docs/benchmarks.md]
-    placeclust leaderboard --split val --n-scenes 16 --rooms 6 --goals-per-scene 10 ...
+    placeclust leaderboard --suite placenav-v5 --split val --n-scenes 4 ...  # other buildings
+    placeclust leaderboard --split val --n-scenes 16 --rooms 6 --errands 10 ...
 
 Every recognizer maps every building of the split from a guided tour, and the same agent
 (the suite's: ``planner`` in v1, ``relocalizer`` in v2, ``spot`` in v3 and v4; ``planner``
@@ -12,11 +13,14 @@ without a suite) runs the same errands on each map
 (:func:`envs.runs.tour_errands.run_scene`). A suite (:mod:`envs.runs.suite`) fixes the
 buildings, rooms, errands, tour length and seed, so results are comparable across machines and
 versions that render and simulate alike (the render and physics fingerprints every results file
-records; :func:`~envs.runs.suite.provenance`); without one, ``--split``/``--scene-seeds``
-and the other options say what runs, and the results belong to no suite. The table puts task
-success beside the same maps' open-loop precision, NMI and places per room, each a mean with
-its 95% interval from a bootstrap over buildings (:mod:`placeclust.stats`), and
-``success_vs_nmi.png`` plots one against the other.
+records; :func:`~envs.runs.suite.provenance`). A suite with ``--split``/``--scene-seeds``
+runs its settings (rooms, errands, tours, seed, agent, tracks) on the buildings named, and
+its results say they are not the suite's buildings: a claim checked on more buildings, or
+yours. Without a suite, ``--split``/``--scene-seeds`` and the other options say what runs
+(one :class:`~envs.runs.task_spec.ErrandTask` a track), and the results belong to no suite.
+The table puts task success beside the same maps' open-loop precision, NMI and places per
+room, each a mean with its 95% interval from a bootstrap over buildings
+(:mod:`placeclust.stats`), and ``success_vs_nmi.png`` plots one against the other.
 ``OUT/results.json`` (:mod:`envs.runs.results`) holds every building's errands, the
 summaries and the provenance; ``placeclust compare`` pairs two recognizers from such files.
 A ``package.module:Class`` among the recognizers is one of your own, with ``--preset`` and
@@ -55,6 +59,7 @@ from ..runs.results import (
     write_results,
 )
 from ..runs.suite import SIZES, SUITES, TRACKS, get_suite, provenance
+from ..runs.task_spec import ErrandTask
 from ..runs.tour_errands import ERRAND_AGENTS, check_agent, check_goals
 from ..tasks.recognizers import localizes
 from ..world.layout import room_count
@@ -138,55 +143,68 @@ def plot(summaries: list[dict[str, Any]], path: Path) -> None:
     plt.close(fig)
 
 
-def _settings(args: argparse.Namespace, p: argparse.ArgumentParser, argv: list[str]
-              ) -> dict[str | None, dict[str, Any]]:
-    """The settings a run measures for each of its tracks (``None``: no track), its
-    buildings among them: the suite's, or the options'."""
+#: a run's plan: each track (``None``: no track) with its buildings and its errands
+Plan = dict[str | None, tuple[list[int], ErrandTask]]
+
+#: the options a suite fixes (its buildings are its own unless --split/--scene-seeds say)
+SUITE_FIXES = ("--rooms", "--errands", "--goals-per-scene", "--seed", "--tour-steps-per-room",
+               "--errand-start", "--layout", "--doors", "--local-light", "--track",
+               "--localize-only", "--goal-kind", "--success-radius")
+#: the options that name other buildings than a suite's
+BUILDINGS = ("--split", "--scene-seeds", "--n-scenes")
+
+
+def _given(argv: list[str], options: tuple[str, ...]) -> list[str]:
+    return [o for o in options if any(a == o or a.startswith(o + "=") for a in argv)]
+
+
+def _plan(args: argparse.Namespace, p: argparse.ArgumentParser, argv: list[str]) -> Plan:
+    """What a run measures for each of its tracks: the suite's buildings and errands, the
+    suite's errands on the buildings the options name, or the options' own."""
     if args.suite is None:
         if args.size != "full":
             p.error("--size goes with --suite")
         args.agent = args.agent or "planner"
         seeds = scope_seeds(args, p)
         try:
-            tasks = {t: task_from_args(args, t) for t in (args.tracks or [None])}
+            return {t: (seeds, task_from_args(args, t)) for t in (args.tracks or [None])}
         except ValueError as e:
             p.error(str(e))
-        return {t: run_settings(args, seeds, task, t) for t, task in tasks.items()}
     suite = get_suite(args.suite)
     if args.size not in suite.sizes:
         p.error(f"{suite.name} runs at the sizes {', '.join(suite.sizes)}"
                 + ("; its long tours are the track 'long'" if suite.tracks else ""))
-    fixed = [o for o in ("--split", "--scene-seeds", "--n-scenes", "--rooms",
-                         "--goals-per-scene", "--seed", "--tour-steps-per-room",
-                         "--errand-start", "--layout", "--doors", "--local-light", "--track",
-                         "--localize-only", "--goal-kind", "--success-radius")
-             if any(a == o or a.startswith(o + "=") for a in argv)]
+    fixed = _given(argv, SUITE_FIXES)
     if fixed:
         p.error(f"the suite {args.suite} fixes {' '.join(fixed)}; leave them out, or "
                 "leave out --suite (the results then belong to no suite)")
-    args.split, args.rooms = suite.split, suite.n_rooms
-    args.goals_per_scene, args.seed = suite.goals, suite.seed
+    args.named_buildings = bool(_given(argv, BUILDINGS))
+    if args.named_buildings and args.size != "full":
+        p.error("--size picks among the suite's buildings; --split/--scene-seeds name others")
+    named = scope_seeds(args, p) if args.named_buildings else []
+    if not args.named_buildings:
+        args.split = suite.split
+    args.rooms, args.seed = suite.n_rooms, suite.seed
     args.agent = args.agent or suite.agent
     args.tracks = suite.track_names or None
-    return {t: run_settings(args, suite.scene_seeds(args.size, t), suite.task(args.size, t), t)
+    return {t: (named or suite.scene_seeds(args.size, t), suite.task(args.size, t))
             for t in (args.tracks or [None])}
 
 
-def suite_jobs(settings: dict[str | None, dict[str, Any]], recognizers: list[str],
-               **common: Any) -> list[dict[str, Any]]:
+def suite_jobs(plan: Plan, recognizers: list[str], **common: Any) -> list[dict[str, Any]]:
     """The jobs of several tracks whose buildings differ (a suite's tracks, each sized on its
     own): each building's tour serves every track that has that building
     (:func:`~envs.runs.jobs.track_jobs`), so a smaller track costs no tours."""
     serving: dict[int, list[str]] = {}
-    for track, st in settings.items():
-        for seed in st["scene_seeds"]:
+    for track, (seeds, _) in plan.items():
+        for seed in seeds:
             serving.setdefault(seed, []).append(str(track))
     groups: dict[tuple[str, ...], list[int]] = {}
     for seed, tracks in serving.items():
         groups.setdefault(tuple(tracks), []).append(seed)
     return [job for tracks, seeds in groups.items()
-            for job in track_jobs(seeds, recognizers,
-                                  {t: settings[t]["task"] for t in tracks}, **common)]
+            for job in track_jobs(seeds, recognizers, {t: plan[t][1] for t in tracks},
+                                  **common)]
 
 
 def main(argv: list[str] | None = None, prog: str = "placeclust leaderboard"
@@ -204,7 +222,6 @@ def main(argv: list[str] | None = None, prog: str = "placeclust leaderboard"
     p.add_argument("--agent", choices=ERRAND_AGENTS, help="the errand agent (default: the "
                    "suite's, relocalizer from placenav-v2 on; planner without a suite)")
     p.add_argument("--policy", type=Path, help="the ppo agent's policy (default: shipped)")
-    p.add_argument("--goals-per-scene", type=int, default=5)
     add_task_arguments(p, many_tracks=True)
     p.add_argument("--seed", type=int, default=0)
     p.add_argument("--out", type=Path, default=Path("runs/leaderboard"), help="where the "
@@ -219,14 +236,16 @@ def main(argv: list[str] | None = None, prog: str = "placeclust leaderboard"
                    "(docs/benchmarks.md)")
     argv = sys.argv[1:] if argv is None else list(argv)
     args = p.parse_args(argv)
-    settings = _settings(args, p, argv)
-    images = any(st["task"].get("goal_kind") == "image" for st in settings.values())
+    args.named_buildings = False
+    plan = _plan(args, p, argv)
+    tasks = [task for _, task in plan.values()]
+    images = any(task.images for task in tasks)
     if images and not any(a.startswith("--recognizers") for a in argv):
         args.recognizers = ["oracle-pose", *args.recognizers]  # image goals' ceiling
-    localize = any(st["task"].get("errand_learn") is False for st in settings.values())
+    localize = any(not task.errand_learn for task in tasks)
     try:
         check_agent(args.agent, args.policy)
-        check_goals(args.agent, {}, {str(t): st["task"] for t, st in settings.items()})
+        check_goals(args.agent, tasks)
         params = recognizer_params(args.recognizers, args.preset, args.param)
         skipped = [r for r in args.recognizers if localize and not localizes(r, params[r])]
         args.recognizers = [r for r in args.recognizers if r not in skipped]
@@ -236,15 +255,15 @@ def main(argv: list[str] | None = None, prog: str = "placeclust leaderboard"
         if not args.recognizers:
             raise ValueError("no recognizer left to run: none of them can localize on a "
                              "fixed map; leave out --localize-only")
-        common = {"n_rooms": args.rooms, "agent": args.agent, "goals": args.goals_per_scene,
-                  "seed": args.seed, "policy": args.policy, "params": params}
+        common = {"n_rooms": args.rooms, "agent": args.agent, "seed": args.seed,
+                  "policy": args.policy, "params": params}
         if args.tracks and len(args.tracks) > 1:
-            jobs = suite_jobs(settings, args.recognizers, **common)
+            jobs = suite_jobs(plan, args.recognizers, **common)
             done = split_tracks(run_jobs(jobs, args.out, args.workers, args.executor))
             by_track: dict[str | None, list] = {t: done[t] for t in args.tracks}
         else:
-            ((track, only),) = settings.items()
-            jobs = make_jobs(only["scene_seeds"], args.recognizers, **common, **only["task"])
+            ((track, (seeds, task)),) = plan.items()
+            jobs = make_jobs(seeds, args.recognizers, task, **common)
             by_track = {track: run_jobs(jobs, args.out, args.workers, args.executor)}
     except (ValueError, FileNotFoundError) as e:
         print(f"error: {e}", file=sys.stderr)
@@ -252,10 +271,11 @@ def main(argv: list[str] | None = None, prog: str = "placeclust leaderboard"
     several = len(by_track) > 1
     for track, rows in by_track.items():
         out = args.out / track if several and track else args.out
-        _report(args, prog, argv, rows, {**settings[track], "recognizers":
-                                                args.recognizers,
-                                                **({"skipped": skipped} if skipped else {})},
-                out, track)
+        seeds, task = plan[track]
+        _report(args, prog, argv, rows, {**run_settings(args, seeds, task, track),
+                                         "recognizers": args.recognizers,
+                                         **({"skipped": skipped} if skipped else {})},
+                out, track, task)
     # image goals' ceiling knows the goal's pose; room goals' is the true rooms
     ceiling = "oracle-pose" if images else "oracle"
     if several and {"none", ceiling} <= set(args.recognizers):
@@ -269,15 +289,15 @@ def main(argv: list[str] | None = None, prog: str = "placeclust leaderboard"
 
 
 def _report(args: argparse.Namespace, prog: str, argv: list[str], rows: list[dict[str, Any]],
-            settings: dict[str, Any], out: Path, track: str | None) -> None:
+            settings: dict[str, Any], out: Path, track: str | None, task: ErrandTask) -> None:
     """One track's results file, table, plot and docs section."""
     suite = None if args.suite is None else get_suite(args.suite)
     seeds = settings["scene_seeds"]
     doc = write_results(out / "results.json", rows, args.recognizers, settings,
-                        provenance(suite, args.size))
+                        provenance(suite, args.size, args.named_buildings))
     summaries = doc["summaries"]
     skipped = settings.get("skipped", [])
-    body = (_describe(args, seeds, summaries, doc["provenance"], track, settings["task"])
+    body = (_describe(args, seeds, summaries, doc["provenance"], task, track)
             + "\n\n"
             + leaderboard(summaries)
             + (f"\n\nSkipped (no `localize_one`, so no fixed map to run on): "
@@ -290,6 +310,8 @@ def _report(args: argparse.Namespace, prog: str, argv: list[str], rows: list[dic
     plot(summaries, out / "success_vs_nmi.png")
     if args.docs:
         name = "leaderboard-" + (args.suite or args.split or "scenes")
+        if args.suite and args.named_buildings:  # not the suite's buildings: its own table
+            name += f"-{args.split or 'scenes'}"
         name += "" if args.size == "full" else f"-{args.size}"
         name += f"-{track}" if track else ""
         name += "-localize" if args.localize_only else ""
@@ -301,8 +323,7 @@ def _report(args: argparse.Namespace, prog: str, argv: list[str], rows: list[dic
 
 
 def _describe(args: argparse.Namespace, seeds: list[int], summaries: list[dict[str, Any]],
-              prov: dict[str, Any], track: str | None = None,
-              task: dict[str, Any] | None = None) -> str:
+              prov: dict[str, Any], task: ErrandTask, track: str | None = None) -> str:
     """The paragraph above the table: what ran, on what, for how long, and how sure."""
     rho = (f"{rank_agreement(summaries):.2f}" if len(summaries) > 2
            else "too few recognizers for one (3 at least)")
@@ -313,30 +334,24 @@ def _describe(args: argparse.Namespace, seeds: list[int], summaries: list[dict[s
              f"{prov['versions']['placeclust']}, MuJoCo {prov['versions']['mujoco']}, render "
              f"fingerprint `{prov['render_fingerprint']}`, physics fingerprint "
              f"`{prov['physics_fingerprint']}`. " if prov["suite"] else "")
+    if prov.get("buildings") == "named":
+        suite = suite.replace(f"({prov['size']})", "settings on buildings the command named, "
+                              "not the suite's: not its figures")
     redrawn = sum(s["redrawn"] for s in summaries)
     where_from = f"Track `{track}`: {TRACKS[track].tests}. " if track else ""
-    if args.localize_only:
+    if not task.errand_learn:
         where_from += "The map is fixed after the tour (the recognizers only localize). "
-    errands = sum(s["errands"] for s in summaries)
+    errands = sum(s["n_errands"] for s in summaries)
     buildings = "1 building" if len(seeds) == 1 else f"{len(seeds)} buildings"
     return (f"{suite}{where_from}{buildings} of {args.rooms} rooms ({where} {span}), "
-            f"{args.goals_per_scene} errands each after one guided tour, episode seed "
+            f"{task.n_errands} errands each after one guided tour, episode seed "
             f"{args.seed}, agent `{args.agent}`{_policy(args)}; "
             f"{plural(round(minutes), 'minute')} of one core in all. "
             f"Each figure: the mean over errands (tours for the map's figures) with its 95% "
             f"interval from a bootstrap over buildings. {redrawn} of {errands} errands were "
-            f"redrawn to start {_far(task or {})}. Spearman's rank "
+            f"redrawn to start {task.far_text()}. Spearman's rank "
             f"correlation of success with NMI ({len(summaries)} points, no interval): {rho}."
             + (" One building: no interval can be drawn from it." if len(seeds) < 2 else ""))
-
-
-def _far(task: dict[str, Any]) -> str:
-    """How far an errand's start is drawn from its goal, as the task sets it."""
-    if task.get("goal_kind") != "image":
-        return "at least 1 m of walking from their goal"
-    radius = float(task.get("success_radius", 1.0))
-    return (f"at least {max(1.0, 2 * radius):g} m of walking from their goal, a picture "
-            f"reached by stopping within {radius:g} m of it")
 
 
 def _policy(args: argparse.Namespace) -> str:

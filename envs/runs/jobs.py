@@ -7,8 +7,9 @@ building, run on a pool and kept in a store, each row stamped with the code that
 
 Examples:
     >>> from envs.runs.jobs import make_jobs, run_jobs
-    >>> jobs = make_jobs([0], ["oracle"], n_rooms=3, agent="planner", goals=1, seed=0,
-    ...                  tour_steps_per_room=30)
+    >>> from envs.runs.task_spec import ErrandTask
+    >>> jobs = make_jobs([0], ["oracle"], ErrandTask(n_errands=1, tour_steps_per_room=30),
+    ...                  n_rooms=3, agent="planner", seed=0)
     >>> [row["success_rate"] for row in run_jobs(jobs, progress=False)]
     [1.0]
 """
@@ -19,7 +20,7 @@ import hashlib
 import inspect
 import json
 import sys
-from collections.abc import Callable
+from collections.abc import Callable, Mapping
 from pathlib import Path
 from typing import Any
 
@@ -34,6 +35,7 @@ from .pool import run_all
 from .results import policy_name
 from .store import RunStore
 from .suite import library_versions, render_fingerprint, sources_fingerprint
+from .task_spec import ErrandTask
 from .tour_errands import POLICY, run_scene
 
 #: the slow recognizers first, so the last job to finish is a short one: a recognizer of
@@ -68,7 +70,7 @@ def job_fingerprint(job: dict[str, Any]) -> str:
 
 
 #: the fields a job's file name spells out; any other is hashed into it
-_KEY_FIELDS = frozenset({"scene_seed", "n_rooms", "recognizer", "agent", "goals", "seed",
+_KEY_FIELDS = frozenset({"scene_seed", "n_rooms", "recognizer", "agent", "n_errands", "seed",
                          "policy"})
 
 
@@ -81,19 +83,26 @@ def job_key(job: dict[str, Any]) -> str:
         policy += f"-params{hashlib.sha256(text.encode()).hexdigest()[:8]}"
     recognizer = job["recognizer"].replace(":", "-")
     return (f"{recognizer}-{job['agent']}{policy}-scene{job['scene_seed']}"
-            f"-rooms{job['n_rooms']}-goals{job['goals']}-seed{job['seed']}")
+            f"-rooms{job['n_rooms']}-errands{job['n_errands']}-seed{job['seed']}")
 
 
-def make_jobs(scene_seeds: list[int], recognizers: list[str], n_rooms: int, agent: str,
-              goals: int, seed: int, policy: Path | None = None,
+def make_jobs(scene_seeds: list[int], recognizers: list[str], task: ErrandTask, n_rooms: int,
+              agent: str, seed: int, policy: Path | None = None,
               params: dict[str, dict[str, Any]] | None = None,
-              **task: Any) -> list[dict[str, Any]]:
-    """One :func:`run_scene` job per recognizer and building; ``params`` maps a recognizer to
-    its constructor arguments, ``task`` is more ``PlaceNav-GuidedTour-v1`` arguments."""
-    extra = {"policy": str(policy)} if policy else {}
+              tracks: Mapping[str, ErrandTask] | None = None) -> list[dict[str, Any]]:
+    """One :func:`run_scene` job per recognizer and building, each the keyword arguments of
+    :func:`run_scene`: ``task``'s (:meth:`~envs.runs.task_spec.ErrandTask.kwargs`), or with
+    ``tracks`` (name -> task, each of ``task``'s tour and errand count) ``task``'s tour and
+    each track's errands after it; ``params`` maps a recognizer to its constructor
+    arguments."""
+    extra: dict[str, Any] = {"policy": str(policy)} if policy else {}
+    own = task.kwargs()
+    if tracks is not None:  # the job is the tour; each track adds its errands' arguments
+        extra["tracks"] = {name: t.errand_kwargs() for name, t in tracks.items()}
+        own = {"n_errands": task.n_errands, **task.tour_kwargs()}
     params = params or {}
     return [{"scene_seed": s, "n_rooms": n_rooms, "recognizer": r, "agent": agent,
-             "goals": goals, "seed": seed, **extra, **task,
+             "seed": seed, **extra, **own,
              **({"recognizer_params": params[r]} if params.get(r) else {})}
             for r in recognizers for s in scene_seeds]
 
@@ -174,46 +183,23 @@ def _run_job(job: dict[str, Any]) -> dict[str, Any]:
     return run_scene(**job)
 
 
-#: the guided tour's length per room when a command is not told otherwise (the env's default)
-TOUR_STEPS_PER_ROOM = 150
-
-
-def tour_task(steps_per_room: int, errand_start: str = "continue", layout: str = "grid",
-              doors: float | None = None, local_light: bool = False) -> dict[str, Any]:
-    """The ``PlaceNav-GuidedTour-v1`` arguments a job adds for a tour length, errand start,
-    layout, doors and local light: none for the defaults, so default jobs keep their plain
-    file names."""
-    task: dict[str, Any] = {}
-    if steps_per_room != TOUR_STEPS_PER_ROOM:
-        task["tour_steps_per_room"] = steps_per_room
-    if errand_start != "continue":
-        task["errand_start"] = errand_start
-    if layout != "grid":
-        task["layout"] = layout
-    if doors is not None:
-        task["doors"] = doors
-    if local_light:
-        task["local_light"] = True
-    return task
-
-
-#: the guided tour's arguments a track may set: tracks that agree on them share one tour
-TOUR_KEYS = frozenset({"layout", "tour_steps_per_room", "doors", "local_light", "env_id",
-                       "compass"})
-
-
-def track_jobs(scene_seeds: list[int], recognizers: list[str], tasks: dict[str, dict[str, Any]],
+def track_jobs(scene_seeds: list[int], recognizers: list[str], tasks: Mapping[str, ErrandTask],
                **common: Any) -> list[dict[str, Any]]:
-    """:func:`make_jobs` for several tracks (name -> its full task): one job per recognizer,
-    building and tour, serving every track of that tour (:func:`run_scene`'s ``tracks``)."""
-    tours: dict[str, tuple[dict[str, Any], dict[str, dict[str, Any]]]] = {}
+    """:func:`make_jobs` for several tracks (name -> its task): one job per recognizer,
+    building and tour (:meth:`~envs.runs.task_spec.ErrandTask.tour_kwargs`), serving every
+    track of that tour (:func:`run_scene`'s ``tracks``)."""
+    tours: dict[str, dict[str, ErrandTask]] = {}
     for name, task in tasks.items():
-        tour = {k: v for k, v in task.items() if k in TOUR_KEYS}
-        key = json.dumps(tour, sort_keys=True)
-        tours.setdefault(key, (tour, {}))[1][name] = {k: v for k, v in task.items()
-                                                      if k not in TOUR_KEYS}
-    return [job for tour, tracks in tours.values()
-            for job in make_jobs(scene_seeds, recognizers, **common, **tour, tracks=tracks)]
+        key = json.dumps(task.tour_kwargs(), sort_keys=True)
+        tours.setdefault(key, {})[name] = task
+    jobs = []
+    for tracks in tours.values():
+        counts = {t.n_errands for t in tracks.values()}
+        if len(counts) > 1:
+            raise ValueError(f"tracks of one tour run one count of errands, got {sorted(counts)}")
+        jobs += make_jobs(scene_seeds, recognizers, next(iter(tracks.values())), **common,
+                          tracks=tracks)
+    return jobs
 
 
 def split_tracks(rows: list[dict[str, Any]]) -> dict[str, list[dict[str, Any]]]:

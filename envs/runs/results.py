@@ -4,10 +4,15 @@ and what the calibration recognizers in them say (:func:`calibration`).
 ``placeclust leaderboard`` (``OUT/results.json``) and ``placeclust errands --json`` write one
 format, which ``placeclust compare`` reads::
 
-    {"format": "placeclust-results/1", "provenance": {suite, size, versions, render_fingerprint},
-     "settings": {split, scene_seeds, rooms, goals, seed, agent, task},
-     "summaries": [{recognizer, success_rate, success_rate_interval, ...}, ...],
+    {"format": "placeclust-results/2",
+     "provenance": {suite, size, buildings, versions, render_fingerprint, ...},
+     "settings": {split, scene_seeds, rooms, n_errands, seed, agent, task},
+     "summaries": [{recognizer, n_errands, success_rate, success_rate_interval, ...}, ...],
      "buildings": [one row per (recognizer, building): its errands and its tour's map scores]}
+
+A building's ``errands`` is the list of its errands; ``n_errands`` counts them. Files of
+``placeclust-results/1`` (before 0.19.0: ``goals`` and a summary's ``errands`` for the count)
+are read as /2.
 
 Every figure of a summary is a mean over errands (or tours) with its 95% interval from a
 bootstrap over buildings (:mod:`placeclust.stats`).
@@ -26,7 +31,9 @@ from placeclust.stats import Estimate, buildings_for, interval, paired_differenc
 
 from ..tasks.oracles import error_of
 
-FORMAT = "placeclust-results/1"
+FORMAT = "placeclust-results/2"
+#: the formats :func:`load_results` still reads, each upgraded to :data:`FORMAT` on reading
+OLD_FORMATS = ("placeclust-results/1",)
 #: per-errand figures (one value per errand) and per-tour ones (one per building)
 ERRAND_METRICS = ("success_rate", "spl", "mean_length")
 TOUR_METRICS = ("precision", "nmi", "n_places", "places_per_room")
@@ -64,7 +71,7 @@ def summarize(rows: list[dict[str, Any]]) -> dict[str, Any]:
     errands = [e for r in rows for e in r["errands"]]
     out: dict[str, Any] = {
         "recognizer": rows[0]["recognizer"], "agent": rows[0]["agent"],
-        "scenes": [r["scene_seed"] for r in rows], "errands": len(errands),
+        "scenes": [r["scene_seed"] for r in rows], "n_errands": len(errands),
         "redrawn": sum(bool(e.get("redrawn")) for e in errands),
         "worst_scene_success": float(min(r["success_rate"] for r in rows)),
         "seconds": float(sum(r["seconds"] for r in rows)),
@@ -111,14 +118,32 @@ def load_results(path: Path) -> dict[str, Any]:
         doc = json.loads(Path(path).read_text())
     except (OSError, json.JSONDecodeError) as exc:
         raise ValueError(f"{path}: cannot read a results file ({exc})") from exc
-    if not isinstance(doc, dict) or doc.get("format") != FORMAT:
+    if not isinstance(doc, dict) or doc.get("format") not in (FORMAT, *OLD_FORMATS):
         raise ValueError(f"{path} is not a {FORMAT} results file (written by placeclust "
                          "leaderboard or placeclust errands --json)")
+    if doc["format"] in OLD_FORMATS:
+        _upgrade(doc)
     for summary in doc.get("summaries", []):  # an interval of one building is null: NaN
         for key, value in summary.items():
             if key.endswith("_interval"):
                 summary[key] = strict_json.nan_for_none(value)
     return doc
+
+
+def _upgrade(doc: dict[str, Any]) -> None:
+    """A ``placeclust-results/1`` file as /2: the errand count's one name, ``n_errands``,
+    and a suite's own buildings said."""
+    settings, prov = doc.get("settings", {}), doc.get("provenance", {})
+    if "goals" in settings:
+        settings["n_errands"] = settings.pop("goals")
+    for summary in doc.get("summaries", []):
+        if isinstance(summary.get("errands"), int):
+            summary["n_errands"] = summary.pop("errands")
+    if isinstance(prov.get("definition"), dict) and "goals" in prov["definition"]:
+        prov["definition"]["n_errands"] = prov["definition"].pop("goals")
+    if prov.get("suite") is not None:
+        prov.setdefault("buildings", "suite")
+    doc["format"] = FORMAT
 
 
 def slug(name: str) -> str:
@@ -193,7 +218,7 @@ def differences(a: dict[str, Any], b: dict[str, Any]) -> list[str]:
     """What makes two results files incomparable: suite, settings, render, physics."""
     found = []
     pa, pb = a["provenance"], b["provenance"]
-    for key in ("suite", "size", "render_fingerprint", "physics_fingerprint"):
+    for key in ("suite", "size", "buildings", "render_fingerprint", "physics_fingerprint"):
         if pa.get(key) != pb.get(key):  # older files record no physics fingerprint
             found.append(f"{key}: {pa.get(key, 'not recorded')} against "
                          f"{pb.get(key, 'not recorded')}")

@@ -11,16 +11,16 @@ machine says whether it is comparable (:func:`provenance`, checked by ``placeclu
 Examples:
     >>> from envs.runs.suite import SUITES
     >>> suite = SUITES["placenav-v1"]
-    >>> suite.split, suite.n_rooms, suite.goals
+    >>> suite.split, suite.n_rooms, suite.n_errands
     ('test', 6, 5)
     >>> suite.scene_seeds("quick") == list(range(2000, 2000 + suite.n_quick))
     True
     >>> v2 = SUITES["placenav-v2"]  # every track, each on its own buildings
     >>> v2.agent, len(v2.scene_seeds("full", "long")), v2.scene_seeds("quick", "carried")
     ('relocalizer', 4, [2000])
-    >>> SUITES["placenav-v3"].task("full", "carried")["goal_kind"]  # errands to pictures
+    >>> SUITES["placenav-v3"].task("full", "carried").goal_kind  # errands to pictures
     'image'
-    >>> SUITES["placenav-v4"].goals  # v3 with three times the errands
+    >>> SUITES["placenav-v4"].n_errands  # v3 with three times the errands
     15
     >>> track_task("changed-night")
     {'local_light': True, 'errand_condition': 'night'}
@@ -48,6 +48,7 @@ from placeclust import __version__
 
 from ..world.splits import SPLITS
 from .suite_v5 import V5, V5_TRACKS
+from .task_spec import ErrandTask
 
 #: the sizes a suite runs at: ``full`` (what the docs report), ``quick`` (a check in minutes),
 #: ``long`` (the long-tour track: fewer buildings, tours of ``long_tour_steps_per_room``)
@@ -65,7 +66,7 @@ class Suite:
         n_buildings, n_quick, n_long: buildings of the full, quick and long-tour sizes (the
             first ones of ``split``).
         n_rooms: rooms per building.
-        goals: errands per building after the tour.
+        n_errands: errands per building after the tour.
         seed: the episode seed (the tour's route, the errands' goals).
         tour_steps_per_room, long_tour_steps_per_room: the tour's length per room.
         metrics: what its tables report, each a mean with its interval over buildings.
@@ -84,7 +85,7 @@ class Suite:
     n_quick: int
     n_long: int
     n_rooms: int
-    goals: int
+    n_errands: int
     seed: int
     tour_steps_per_room: int
     long_tour_steps_per_room: int
@@ -118,24 +119,26 @@ class Suite:
             n = self.n_long if size == "long" else self.n_buildings
         return list(SPLITS[self.split][:n])
 
-    def task(self, size: str = "full", track: str | None = None) -> dict[str, Any]:
-        """The guided tour's arguments beyond the building: ``tour_steps_per_room``, and
-        ``track``'s own (:func:`track_task`), which a suite of tracks needs."""
+    def task(self, size: str = "full", track: str | None = None) -> ErrandTask:
+        """What a building's errands are (:class:`~envs.runs.task_spec.ErrandTask`): the
+        suite's errands and tour, and ``track``'s own (:func:`track_task`), which a suite of
+        tracks needs."""
         if self.tracks:
             if track not in self.track_names:
                 raise ValueError(f"{self.name} runs its tracks one by one: name one of "
                                  f"{self.track_names}")
-            return {"tour_steps_per_room": self.tour_steps_per_room, **track_task(track),
-                    **dict(self.errands)}
+            return ErrandTask.from_kwargs({"n_errands": self.n_errands,
+                                           "tour_steps_per_room": self.tour_steps_per_room,
+                                           **track_task(track), **dict(self.errands)})
         steps = self.long_tour_steps_per_room if size == "long" else self.tour_steps_per_room
-        return {"tour_steps_per_room": steps}
+        return ErrandTask(n_errands=self.n_errands, tour_steps_per_room=steps)
 
 
 # v2's tracks with errands to pictures of spots (PlaceNav-ImageGoal-v0, the spot agent):
 # a map that knows the spot is worth more than one that knows the room. Success within
 # 1 m, Habitat ImageNav's radius, chosen on the val pilot (docs/design.md, "placenav-v3")
 _V3 = Suite(name="placenav-v3", env_id="PlaceNav-ImageGoal-v0", split="test",
-            n_buildings=12, n_quick=1, n_long=4, n_rooms=6, goals=5, seed=0,
+            n_buildings=12, n_quick=1, n_long=4, n_rooms=6, n_errands=5, seed=0,
             tour_steps_per_room=150, long_tour_steps_per_room=500,
             agent="spot", metrics=("success_rate", "spl", "final_distance",
                                    "precision", "nmi", "places_per_room"),
@@ -150,14 +153,14 @@ SUITES: Mapping[str, Suite] = MappingProxyType({
     # every recognizer piloted a half-width <= 0.05 on success and SPL and <= 0.01 on the tour
     # map's precision; 5 errands a building, as 10 let one lost robot fail a building's rest
     "placenav-v1": Suite(name="placenav-v1", env_id="PlaceNav-GuidedTour-v1", split="test",
-                         n_buildings=60, n_quick=4, n_long=4, n_rooms=6, goals=5, seed=0,
+                         n_buildings=60, n_quick=4, n_long=4, n_rooms=6, n_errands=5, seed=0,
                          tour_steps_per_room=150, long_tour_steps_per_room=500),
     # each track sized by its pilot on val within the 3 hours a full run may take on 2 cores
     # (docs/design.md, "placenav-v2"): 12 buildings give PANORAMA and PANORAMA_ORB a
     # success half-width near 0.05 on the lit tracks (11-19 needed) and resolve 5% aliasing
     # on every track calibrated (6 buildings did); long tours cost 3x, so 4 as in v1
     "placenav-v2": Suite(name="placenav-v2", env_id="PlaceNav-GuidedTour-v1", split="test",
-                         n_buildings=12, n_quick=1, n_long=4, n_rooms=6, goals=5, seed=0,
+                         n_buildings=12, n_quick=1, n_long=4, n_rooms=6, n_errands=5, seed=0,
                          tour_steps_per_room=150, long_tour_steps_per_room=500,
                          agent="relocalizer",
                          tracks=(("continued", 12), ("changed-night", 12),
@@ -171,7 +174,7 @@ SUITES: Mapping[str, Suite] = MappingProxyType({
     # errand, and 15 give six of seven tracks a chance of 0.87 or more at 12 buildings
     # (docs/design.md, "Errands decide the resolution, not buildings"). A building's first
     # five errands are its v3 errands, goal for goal
-    "placenav-v4": replace(_V3, name="placenav-v4", goals=15),
+    "placenav-v4": replace(_V3, name="placenav-v4", n_errands=15),
     # v4's question with the verdict the recognizer's: the same goals for all, no stop by
     # rule, a compass that drifts, goals off the route, the changed tracks on a fixed map too
     # (envs.runs.suite_v5)
@@ -407,11 +410,14 @@ def sources_fingerprint(*sources: str | Path) -> str:
     return digest.hexdigest()[:16]
 
 
-def provenance(suite: Suite | None, size: str = "full") -> dict[str, Any]:
+def provenance(suite: Suite | None, size: str = "full", named_buildings: bool = False
+               ) -> dict[str, Any]:
     """What a results file records so another can be told comparable or not: the suite (its
-    definition too) and size, or none, the library versions, and the render and physics
-    fingerprints."""
+    definition too) and size, or none, whose ``buildings`` they are (``"named"``: the
+    suite's settings on buildings a command named, so not the suite's figures), the library
+    versions, and the render and physics fingerprints."""
     return {"suite": None if suite is None else suite.name, "size": size if suite else None,
+            "buildings": None if suite is None else ("named" if named_buildings else "suite"),
             "definition": None if suite is None else asdict(suite),
             "versions": library_versions(), "render_fingerprint": render_fingerprint(),
             "physics_fingerprint": physics_fingerprint()}

@@ -50,7 +50,7 @@ GOAL_OFFSET = 0.5
 #: ``placenav-v5``: :class:`~envs.runs.suite.Suite`'s arguments
 V5: dict[str, Any] = {
     "name": "placenav-v5", "env_id": "PlaceNav-ImageGoal-v1", "split": "test",
-    "n_buildings": 12, "n_quick": 1, "n_long": 4, "n_rooms": 6, "goals": 15, "seed": 0,
+    "n_buildings": 12, "n_quick": 1, "n_long": 4, "n_rooms": 6, "n_errands": 15, "seed": 0,
     "tour_steps_per_room": 150, "long_tour_steps_per_room": 500, "agent": "spot-memory",
     "metrics": ("success_rate", "spl", "final_distance", "precision", "nmi", "places_per_room"),
     "tracks": (("continued", 12), ("changed-night", 12), ("changed-cloudy", 12),

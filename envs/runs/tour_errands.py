@@ -6,7 +6,7 @@ tour, and lets an agent of :data:`ERRAND_AGENTS` run the errands on the tour's m
 (:mod:`envs.commands.errands`, :mod:`envs.commands.leaderboard`) run it per building.
 
 Examples:
-    >>> row = run_scene(0, n_rooms=3, recognizer="oracle", goals=2, seed=0,
+    >>> row = run_scene(0, n_rooms=3, recognizer="oracle", n_errands=2, seed=0,
     ...                 tour_steps_per_room=40)
     >>> row["success_rate"], row["precision"]
     (1.0, 1.0)
@@ -17,7 +17,7 @@ from __future__ import annotations
 import functools
 import importlib.util
 import time
-from collections.abc import Mapping
+from collections.abc import Iterable, Mapping
 from pathlib import Path
 from typing import Any, cast
 
@@ -33,6 +33,7 @@ from ..agents.teach_repeat import TourPlanner
 from ..tasks.guided_tour import GuidedTourEnv
 from ..tasks.recognizers import check_recognizer_name
 from ..world.textures import ASSETS
+from .task_spec import ErrandTask
 
 #: agents that run errands on a guided tour's map: ``planner`` (teach and repeat, v1's),
 #: ``relocalizer`` (the planner that finds where it is again on the tour's scans: carried
@@ -48,19 +49,19 @@ POLICY = ASSETS / "policies" / "errands" / "ppo_errands.zip"
 
 
 def run_scene(scene_seed: int, n_rooms: int = 6, recognizer: str = "panorama",
-              agent: str = "planner", goals: int = 5, seed: int = 0,
+              agent: str = "planner", n_errands: int = 5, seed: int = 0,
               policy: str | Path | None = None,
               recognizer_params: dict[str, Any] | None = None,
               tracks: Mapping[str, Mapping[str, Any]] | None = None,
               env_id: str = "PlaceNav-GuidedTour-v1", **task: Any) -> dict[str, Any]:
-    """One guided tour of building ``scene_seed`` and ``goals`` errands; the outcome.
+    """One guided tour of building ``scene_seed`` and ``n_errands`` errands; the outcome.
 
     Args:
         scene_seed, n_rooms: the building.
         recognizer: one of :data:`~envs.tasks.recognizers.RECOGNIZERS`, or
             ``package.module:Class`` (:func:`~envs.tasks.recognizers.make_recognizer`).
         agent: one of :data:`ERRAND_AGENTS`.
-        goals: errands after the tour.
+        n_errands: errands after the tour.
         seed: the episode's seed (with the scene seed: the tour's route and the errands' goals).
         policy: the ``ppo`` agent's policy (default: the shipped one); the ``config.yml``
             beside it says what it observes (:class:`~envs.agents.learned.LearnedAgent`).
@@ -72,7 +73,10 @@ def run_scene(scene_seed: int, n_rooms: int = 6, recognizer: str = "panorama",
         env_id: the task: ``PlaceNav-GuidedTour-v1`` (room or image goals, by ``goal_kind``)
             or ``PlaceNav-ImageGoal-v1`` (placenav-v5's image goals,
             :mod:`envs.tasks.image_goal`).
-        **task: more arguments of ``env_id`` (the tour's, with ``tracks``).
+        **task: more arguments of ``env_id`` (the tour's, with ``tracks``): with
+            ``env_id`` and ``n_errands``, an :class:`~envs.runs.task_spec.ErrandTask`'s
+            :meth:`~envs.runs.task_spec.ErrandTask.kwargs` (checked as one) and any other
+            argument of the env.
 
     Returns:
         ``success_rate``, ``spl``, ``mean_length`` (steps per errand), the tour map's
@@ -81,13 +85,15 @@ def run_scene(scene_seed: int, n_rooms: int = 6, recognizer: str = "panorama",
     """
     if agent not in ERRAND_AGENTS:
         raise ValueError(f"unknown agent {agent!r}; choose one of {ERRAND_AGENTS}")
-    check_goals(agent, task, tracks)
+    base = {"env_id": env_id, "n_errands": n_errands, **task}
+    check_goals(agent, [ErrandTask.within({**base, **extra})
+                        for extra in (tracks or {"": {}}).values()])
     check_recognizer_name(recognizer)
     learned = LearnedAgent.load(policy or POLICY) if agent == "ppo" else None
     head = {"scene_seed": scene_seed, "recognizer": recognizer,
             "recognizer_params": dict(recognizer_params or {}), "agent": agent}
     make = functools.partial(gym.make, env_id, recognizer=recognizer,
-                             scene_seed=scene_seed, n_rooms=n_rooms, n_errands=goals,
+                             scene_seed=scene_seed, n_rooms=n_rooms, n_errands=n_errands,
                              recognizer_params=recognizer_params)
     episode = seed * 100_003 + scene_seed
     if tracks is None:
@@ -114,15 +120,13 @@ def run_scene(scene_seed: int, n_rooms: int = 6, recognizer: str = "panorama",
             "seconds": float(sum(r["seconds"] for r in rows.values()))}
 
 
-def check_goals(agent: str, task: Mapping[str, Any],
-                tracks: Mapping[str, Mapping[str, Any]] | None = None) -> None:
-    """A ``ValueError`` naming the agents that can, if ``agent`` cannot run the errands'
-    kind of goal (``goal_kind`` in ``task`` or a track's arguments; default rooms)."""
-    for extra in (tracks or {"": {}}).values():
-        kind = {**task, **extra}.get("goal_kind", "room")
-        if agent not in AGENTS_FOR.get(kind, ()):
-            raise ValueError(f"the {agent} agent cannot run errands to {kind} goals; choose "
-                             f"one of {AGENTS_FOR.get(kind, ())}")
+def check_goals(agent: str, tasks: Iterable[ErrandTask]) -> None:
+    """A ``ValueError`` naming the agents that can, if ``agent`` cannot run the errands of
+    one of ``tasks`` (:data:`AGENTS_FOR` their ``goal_kind``)."""
+    for task in tasks:
+        if agent not in AGENTS_FOR[task.goal_kind]:
+            raise ValueError(f"the {agent} agent cannot run errands to {task.goal_kind} goals; "
+                             f"choose one of {AGENTS_FOR[task.goal_kind]}")
 
 
 def check_agent(agent: str, policy: Path | None) -> None:

@@ -49,7 +49,7 @@ import networkx as nx
 import numpy as np
 from gymnasium import spaces
 
-from placeclust.protocol import can_localize, reset_position
+from placeclust.protocol import place_of, reset_position
 
 from ..world.changes import clear_pose
 from ..world.layout import FloorPlan
@@ -304,23 +304,20 @@ class ImageGoals(RoomGoals):
 
     def _localize(self, env: TourTask, goal: Goal) -> int:
         """The place of the goal's picture: the true rooms' (a calibration oracle's own
-        answer), or the recognizer's on a copy of its map that has forgotten where the robot
-        is, so the whole map is searched and the robot's own tracking does not move: its
-        ``localize_one`` (the fixed map's query, with its own threshold), else
-        ``predict_one``."""
+        answer), or the recognizer's (:func:`placeclust.protocol.place_of` without ranking:
+        ``localize_one``, the fixed map's query with its own threshold, else
+        ``predict_one``)."""
         if env.bound_truth is not None:
             assert goal.pose is not None
             return env.bound_truth.goal(goal.room, goal.pose)
         recognizer = env.recognizer
         if recognizer is None:
             return -1
-        model = copy.deepcopy(recognizer)
-        reset_position(model)
         if self.image is None:  # one that reads no images (random, none): its next answer
+            model = copy.deepcopy(recognizer)
+            reset_position(model)
             return int(model.learn_predict_one(None))
-        if can_localize(model):  # the fixed map's own query, its whole map searched
-            return int(model.localize_one(self.image))
-        return int(model.predict_one(self.image))
+        return place_of(recognizer, self.image, rank=False)  # v0 names no place by rank
 
 
 def make_goals(kind: str, env: TourTask, success_reward: float, step_cost: float,

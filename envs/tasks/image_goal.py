@@ -45,7 +45,6 @@ Examples:
 
 from __future__ import annotations
 
-import copy
 import math
 from collections.abc import Sequence
 from typing import Any
@@ -55,7 +54,7 @@ import numpy as np
 from gymnasium.envs.registration import register, registry
 from scipy.spatial.distance import cdist
 
-from placeclust.protocol import can_localize, can_rank, reset_position, resolve
+from placeclust.protocol import place_of, resolve
 
 from ..world.changes import clear_pose
 from ..world.robot import RADIUS, GyroCompass, reading
@@ -157,26 +156,19 @@ class SharedImageGoals(ImageGoals):
         return np.array([x, y, float(rng.uniform(-math.pi, math.pi))])
 
     def _localize(self, env: TourTask, goal: Goal) -> int:
-        """The true rooms' answer (a calibration oracle's own), else the recognizer's on a copy
-        of its map that has forgotten where the robot is: its best-ranked place where it ranks,
-        else ``localize_one``, else ``predict_one``. A recognizer that reads no images cannot
-        see the picture: its answer is a guess, a place of its map drawn from the goal's stream
-        (``random``; none without places), not its next answer, which would follow the robot
-        (``random`` holds an id for a second: the place it just stopped in, again)."""
+        """The true rooms' answer (a calibration oracle's own), else the recognizer's
+        (:func:`placeclust.protocol.place_of`: its best-ranked place where it ranks). A
+        recognizer that reads no images cannot see the picture: its answer is a guess, a place
+        of its map drawn from the goal's stream (``random``; none without places), not its
+        next answer, which would follow the robot (``random`` holds an id for a second: the
+        place it just stopped in, again)."""
         if env.bound_truth is not None or env.recognizer is None:
             return super()._localize(env, goal)
         if self.image is None:
             places = sorted(env.recognizer.graph.nodes)
             guess = self.stream(len(env.errands), part=3)
             return int(places[int(guess.integers(len(places)))]) if places else -1
-        model = copy.deepcopy(env.recognizer)
-        reset_position(model)
-        if can_rank(model):
-            ranked = model.rank_places(self.image, n=1)
-            return int(ranked[0]) if len(ranked) else -1
-        if can_localize(model):
-            return int(model.localize_one(self.image))
-        return int(model.predict_one(self.image))
+        return place_of(env.recognizer, self.image)
 
     def _known(self, env: TourTask, goal: Goal) -> dict[str, Any]:
         """What the tour's map knew of the goal's place: ``named_room``, ``named_fine`` and

@@ -40,7 +40,7 @@ def test_candidates_are_the_checkpoints_then_the_last_policy(run):
 
 def test_the_best_val_policy_is_copied_and_every_candidate_recorded(run):
     before = (run / "policy.zip").read_bytes()
-    record = choose(run, n_scenes=1, rooms=3, goals=1, progress=False)
+    record = choose(run, n_scenes=1, rooms=3, n_errands=1, progress=False)
     assert record["split"] == "val" and record["layouts"] == ["grid", "corridor"]
     assert record["recognizer"] == "oracle" and record["errand_start"] == "carried"
     scores = [c["success_rate"] for c in record["candidates"]]

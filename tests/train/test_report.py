@@ -22,7 +22,7 @@ def _agent_file(folder, name, recognizer, successes, **settings):
                      "precision": 1.0, "nmi": 1.0, "n_places": 6, "places_per_room": 1.0,
                      "seconds": 1.0})
     base = {"split": "test", "scene_seeds": [2000 + s for s in range(len(successes))],
-            "rooms": 6, "goals": 4, "seed": 0, "agent": "ppo",
+            "rooms": 6, "n_errands": 4, "seed": 0, "agent": "ppo",
             "policy": f"runs/train/carried_{name}/best_model.zip",
             "task": {"errand_start": "carried"}}
     path = folder / f"{name}.json"
@@ -83,7 +83,7 @@ def test_one_recognizer_of_a_leaderboard_file_is_named_with_an_at(agents, tmp_pa
     board = tmp_path / "board.json"
     write_results(board, rows, ["oracle", "none"],
                   {"split": "test", "scene_seeds": list(range(2000, 2008)), "rooms": 6,
-                   "goals": 4, "seed": 0, "agent": "planner", "policy": None,
+                   "n_errands": 4, "seed": 0, "agent": "planner", "policy": None,
                    "task": {"errand_start": "carried"}}, PROVENANCE)
     assert main([*agents, f"planner={board}@oracle", "--against", "planner"]) == 0
     out = capsys.readouterr().out

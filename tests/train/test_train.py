@@ -225,7 +225,7 @@ def test_a_memory_agent_trains_on_tours_and_runs_in_the_closed_loop(tmp_path):
 
     agent = LearnedAgent.load(policy)
     assert (agent.observe, agent.recurrent, agent.repeat) == ("noplace", True, 2)
-    row = run_scene(2000, n_rooms=3, recognizer="oracle", agent="ppo", goals=2,
+    row = run_scene(2000, n_rooms=3, recognizer="oracle", agent="ppo", n_errands=2,
                     policy=policy, tour_steps_per_room=40, errand_steps=30,
                     errand_start="carried")
     assert len(row["errands"]) == 2 and 0.0 <= row["success_rate"] <= 1.0

@@ -53,7 +53,7 @@ def test_the_shipped_policy_runs_errands_and_a_missing_one_is_named(tmp_path):
     pytest.importorskip("stable_baselines3")  # the train extra
     from envs.runs.tour_errands import run_scene
 
-    row = run_scene(3, n_rooms=3, recognizer="oracle", agent="ppo", goals=2, seed=0,
+    row = run_scene(3, n_rooms=3, recognizer="oracle", agent="ppo", n_errands=2, seed=0,
                     tour_steps_per_room=40)
     assert len(row["errands"]) == 2 and 0.0 <= row["success_rate"] <= 1.0
     with pytest.raises(FileNotFoundError, match="no policy file .*python -m train.train"):

@@ -3,14 +3,15 @@ import numpy as np
 import pytest
 
 from envs.agents.spot import SpotPlanner
+from envs.runs.task_spec import ErrandTask
 from envs.runs.tour_errands import check_goals, run_scene
 
 TASK = {"goal_kind": "image", "tour_steps_per_room": 60}
 
 
 def _run(recognizer, seed=0, **kw):
-    return run_scene(1000, n_rooms=4, recognizer=recognizer, agent="spot", goals=4, seed=seed,
-                     **{**TASK, **kw})
+    return run_scene(1000, n_rooms=4, recognizer=recognizer, agent="spot", n_errands=4,
+                     seed=seed, **{**TASK, **kw})
 
 
 def test_the_ceiling_stops_at_the_goal():
@@ -47,11 +48,13 @@ def test_the_medoid_is_the_step_nearest_all_of_its_place(made):
 
 
 def test_agents_run_only_the_goals_they_can():
-    check_goals("spot", {"goal_kind": "image"})
+    check_goals("spot", [ErrandTask(goal_kind="image")])
     with pytest.raises(ValueError, match="relocalizer agent cannot run errands to image"):
-        check_goals("relocalizer", {}, {"carried": {"goal_kind": "image"}})
+        check_goals("relocalizer", [ErrandTask(), ErrandTask(goal_kind="image")])
     with pytest.raises(ValueError, match="spot agent cannot run errands to room"):
-        check_goals("spot", {})
+        check_goals("spot", [ErrandTask()])
+    with pytest.raises(ValueError, match="relocalizer agent cannot run errands to image"):
+        run_scene(1000, agent="relocalizer", tracks={"carried": {"goal_kind": "image"}})
 
 
 def test_more_errands_begin_with_the_errands_of_fewer():
@@ -59,7 +62,7 @@ def test_more_errands_begin_with_the_errands_of_fewer():
     (v3's 5) goal for goal, so their figures can be read together. Fails if a goal, a carry or
     the agent's seed is drawn from a stream whose draws depend on how many errands follow."""
     def errands(n, **kw):
-        row = run_scene(1000, n_rooms=4, recognizer="oracle-cells:2", agent="spot", goals=n,
+        row = run_scene(1000, n_rooms=4, recognizer="oracle-cells:2", agent="spot", n_errands=n,
                         seed=0, tracks={"continued": {}, "carried": {"errand_start": "carried"}},
                         **{**TASK, **kw})
         return {t: [(e["goal"], e["steps"], e["success"], round(e["final_distance"], 6))

@@ -33,7 +33,7 @@ def test_guard_stops_the_robot_short_of_a_wall_but_lets_it_turn():
 
 
 def test_the_planner_runs_errands_on_true_rooms():
-    row = run_scene(3, recognizer="oracle", goals=3, seed=0, **SMALL)
+    row = run_scene(3, recognizer="oracle", n_errands=3, seed=0, **SMALL)
     assert row["success_rate"] == 1.0 and row["precision"] == 1.0
     assert 0.3 < row["spl"] <= 1.0
 

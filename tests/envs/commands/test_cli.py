@@ -165,7 +165,7 @@ def test_whole_commands_run_under_placeclust(capsys, tmp_path):
     scores = tmp_path / "scores.json"
     with pytest.raises(SystemExit) as exc:
         main(["errands", "--scene-seeds", "0", "--rooms", "3", "--recognizer", "oracle",
-              "--goals-per-scene", "1", "--json", str(scores)])
+              "--errands", "1", "--json", str(scores)])
     assert exc.value.code == 0 and "success_rate=" in capsys.readouterr().out
     assert scores.is_file()
     with pytest.raises(SystemExit) as exc:  # the closed loop's old name for PANORAMA

@@ -8,10 +8,10 @@ import pytest
 from envs.commands import compare
 from envs.runs.results import load_results, write_results
 
-PROVENANCE = {"suite": "placenav-v1", "size": "quick", "definition": {},
+PROVENANCE = {"suite": "placenav-v1", "size": "quick", "buildings": "suite", "definition": {},
               "versions": {"placeclust": "0.13.0", "mujoco": "4.0.0"},
               "render_fingerprint": "abc", "physics_fingerprint": "fed"}
-SETTINGS = {"split": "test", "scene_seeds": [0, 1, 2, 3], "rooms": 6, "goals": 4, "seed": 0,
+SETTINGS = {"split": "test", "scene_seeds": [0, 1, 2, 3], "rooms": 6, "n_errands": 4, "seed": 0,
             "agent": "planner", "task": {}}
 
 
@@ -65,7 +65,8 @@ def test_compare_says_when_the_sample_cannot_decide(results, capsys):
     (("provenance", "suite"), "placenav-v2", "suite: placenav-v1 against placenav-v2"),
     (("provenance", "render_fingerprint"), "def", "render_fingerprint: abc against def"),
     (("provenance", "physics_fingerprint"), "cba", "physics_fingerprint: fed against cba"),
-    (("settings", "goals"), 5, "settings goals: 4 against 5"),
+    (("settings", "n_errands"), 5, "settings n_errands: 4 against 5"),
+    (("provenance", "buildings"), "named", "buildings: suite against named"),
 ])
 def test_results_from_another_suite_or_render_are_refused_or_flagged(
         results, tmp_path, capsys, field, value, message):
@@ -89,7 +90,7 @@ def test_compare_names_what_it_needs(results, tmp_path, capsys):
     bad = tmp_path / "bad.json"
     bad.write_text("{}")
     assert compare.main([str(bad), str(results), "--b", "poor"]) == 2
-    assert "not a placeclust-results/1 results file" in capsys.readouterr().err
+    assert "not a placeclust-results/2 results file" in capsys.readouterr().err
 
 
 def test_one_recognizer_under_two_agents_is_compared_by_agent(results, tmp_path, capsys):
@@ -231,3 +232,21 @@ def test_plan_needs_positive_counts(results, capsys, value, message):
     assert stop.value.code == 2
     err = capsys.readouterr().err
     assert f"argument --plan: {message}" in err and len(err.strip().splitlines()) == 1
+
+
+def test_an_old_results_file_is_read_with_todays_names(results, tmp_path, capsys):
+    """Before 0.19.0 the errand count was ``goals`` (a summary's ``errands``): such a file
+    still pairs with today's, nothing flagged."""
+    old = json.loads(results.read_text())
+    old["format"] = "placeclust-results/1"
+    old["settings"]["goals"] = old["settings"].pop("n_errands")
+    for summary in old["summaries"]:
+        summary["errands"] = summary.pop("n_errands")
+    del old["provenance"]["buildings"]
+    path = tmp_path / "old.json"
+    path.write_text(json.dumps(old))
+    doc = load_results(path)
+    assert doc["settings"]["n_errands"] == 4 and doc["provenance"]["buildings"] == "suite"
+    assert [s["n_errands"] for s in doc["summaries"]] == [16, 16]
+    assert compare.main([str(results), str(path), "--a", "good", "--b", "poor"]) == 0
+    assert "FLAG" not in capsys.readouterr().out

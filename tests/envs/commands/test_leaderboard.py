@@ -17,7 +17,7 @@ from train import evaluate
 
 
 def test_the_leaderboard_resumes_and_ranks(tmp_path):
-    jobs = [{"scene_seed": s, "recognizer": r, "goals": 1, "seed": 0, "agent": "planner",
+    jobs = [{"scene_seed": s, "recognizer": r, "n_errands": 1, "seed": 0, "agent": "planner",
              "n_rooms": 3} for r in ("oracle",) for s in (0, 1)]
     rows = run_jobs(jobs, tmp_path, progress=False)
     files = sorted((tmp_path / "runs").glob("*.json"))
@@ -26,7 +26,7 @@ def test_the_leaderboard_resumes_and_ranks(tmp_path):
     assert run_jobs(jobs, tmp_path, progress=False) == rows  # resumed, nothing run again
     assert [f.stat().st_mtime_ns for f in files] == stamp
     summary = summarize(rows)
-    assert summary["errands"] == 2 and summary["success_rate"] == 1.0
+    assert summary["n_errands"] == 2 and summary["success_rate"] == 1.0
     assert summary["success_rate_interval"] == [1.0, 1.0]  # every building alike
     table = leaderboard([summary, {**summary, "recognizer": "random", "success_rate": 0.1,
                                    "success_rate_interval": [0.0, 0.3]}])
@@ -42,7 +42,7 @@ def test_the_leaderboard_resumes_and_ranks(tmp_path):
     ("render_fingerprint", lambda: "another Mesa"),
 ])
 def test_a_stale_result_is_run_again_and_said(tmp_path, monkeypatch, capsys, what, changed):
-    jobs = [{"scene_seed": 0, "recognizer": "oracle", "goals": 1, "seed": 0, "agent": "planner",
+    jobs = [{"scene_seed": 0, "recognizer": "oracle", "n_errands": 1, "seed": 0, "agent": "planner",
              "n_rooms": 3}]
     run_jobs(jobs, tmp_path, progress=False)
     (kept,) = (tmp_path / "runs").glob("*.json")
@@ -71,7 +71,7 @@ def test_the_job_fingerprint_follows_the_code_and_the_policy_file(tmp_path, monk
 def test_errands_writes_a_results_file(tmp_path, capsys):
     out = tmp_path / "scores.json"
     code = errands.main(["--scene-seeds", "0", "1", "--rooms", "3",
-                          "--recognizer", "oracle", "--goals-per-scene", "2", "--seed", "1",
+                          "--recognizer", "oracle", "--errands", "2", "--seed", "1",
                           "--json", str(out), "--tour-steps-per-room", "40"])
     assert code == 0
     doc = json.loads(out.read_text())
@@ -97,7 +97,7 @@ def test_train_evaluate_points_its_old_unseen_task_to_placeclust_errands(tmp_pat
 def test_a_recognizer_of_your_own_runs_in_the_closed_loop(tmp_path):
     from envs.runs.tour_errands import run_scene
 
-    row = run_scene(0, n_rooms=3, recognizer="examples.tiny_recognizer:HaarPlaces", goals=1,
+    row = run_scene(0, n_rooms=3, recognizer="examples.tiny_recognizer:HaarPlaces", n_errands=1,
                     seed=0, recognizer_params={"threshold": 0.8}, tour_steps_per_room=40)
     assert row["recognizer_params"] == {"threshold": 0.8} and len(row["errands"]) == 1
     assert row["n_places"] >= 1 and 0.0 <= row["precision"] <= 1.0
@@ -124,8 +124,8 @@ def test_a_bad_recognizer_stops_the_errands_before_any_tour(argv, message, tmp_p
 
 def test_a_job_file_names_what_changes_it_and_hashes_the_rest():
     plain = {"scene_seed": 2000, "n_rooms": 6, "recognizer": "panorama", "agent": "planner",
-             "goals": 5, "seed": 0}
-    assert job_runs.job_key(plain) == "panorama-planner-scene2000-rooms6-goals5-seed0"
+             "n_errands": 5, "seed": 0}
+    assert job_runs.job_key(plain) == "panorama-planner-scene2000-rooms6-errands5-seed0"
     own = {**plain, "recognizer": "mine:Places", "recognizer_params": {"threshold": 0.8}}
     other = {**own, "recognizer_params": {"threshold": 0.9}}
     assert job_runs.job_key(own) != job_runs.job_key(other)
@@ -135,7 +135,7 @@ def test_a_job_file_names_what_changes_it_and_hashes_the_rest():
 def test_errands_can_start_carried_in_a_corridor_and_say_so(tmp_path):
     out = tmp_path / "carried.json"
     code = errands.main(["--scene-seeds", "0", "--rooms", "3", "--recognizer", "oracle",
-                             "--goals-per-scene", "2", "--tour-steps-per-room", "40",
+                             "--errands", "2", "--tour-steps-per-room", "40",
                              "--errand-start", "carried", "--layout", "corridor",
                              "--json", str(out)])
     assert code == 0
@@ -148,7 +148,7 @@ def test_errands_can_start_carried_in_a_corridor_and_say_so(tmp_path):
 def test_errands_run_in_buildings_with_doors_and_say_so(tmp_path, capsys):
     out = tmp_path / "doors.json"
     code = errands.main(["--scene-seeds", "1000", "--rooms", "3", "--recognizer", "oracle",
-                             "--goals-per-scene", "2", "--tour-steps-per-room", "40",
+                             "--errands", "2", "--tour-steps-per-room", "40",
                              "--doors", "1.0", "--json", str(out)])
     assert code == 0
     doc = json.loads(out.read_text())
@@ -162,7 +162,7 @@ def test_errands_run_in_buildings_with_doors_and_say_so(tmp_path, capsys):
 
 def test_two_policies_keep_two_job_files():
     job = {"scene_seed": 2000, "n_rooms": 6, "recognizer": "panorama-orb", "agent": "ppo",
-           "goals": 5, "seed": 0}
+           "n_errands": 5, "seed": 0}
     a = job_runs.job_key({**job, "policy": "runs/train/carried_place/policy.zip"})
     b = job_runs.job_key({**job, "policy": "runs/train/carried_oracle/policy.zip"})
     assert a != b and "carried_place" in a
@@ -173,7 +173,7 @@ def test_two_policies_keep_two_job_files():
 def test_a_track_runs_its_errands_and_a_fixed_map_skips_who_cannot_localize(tmp_path, capsys):
     from envs.commands import leaderboard as board
 
-    code = board.main(["--scene-seeds", "0", "1", "--rooms", "3", "--goals-per-scene", "1",
+    code = board.main(["--scene-seeds", "0", "1", "--rooms", "3", "--errands", "1",
                        "--tour-steps-per-room", "30", "--recognizers", "oracle", "oracle-split:2",
                        "examples.tiny_recognizer:HaarPlaces", "--track", "changed-night",
                        "--localize-only", "--agent", "relocalizer", "--workers", "1",
@@ -203,7 +203,7 @@ def test_a_track_refuses_an_option_that_contradicts_it(capsys):
 def test_tracks_of_one_tour_share_it_and_report_apart(tmp_path, capsys):
     from envs.commands import leaderboard as board
 
-    argv = ["--scene-seeds", "0", "1", "--rooms", "3", "--goals-per-scene", "1",
+    argv = ["--scene-seeds", "0", "1", "--rooms", "3", "--errands", "1",
             "--tour-steps-per-room", "30", "--recognizers", "oracle", "none", "--track",
             "continued", "carried", "--agent", "relocalizer", "--workers", "1",
             "--out", str(tmp_path)]
@@ -253,7 +253,7 @@ def test_the_ppo_agent_without_stable_baselines3_names_the_extra(tmp_path, capsy
 
 
 def test_a_run_says_at_once_what_it_will_run_and_what_it_kept(tmp_path, capsys):
-    jobs = [{"scene_seed": s, "recognizer": "oracle", "goals": 1, "seed": 0, "agent": "planner",
+    jobs = [{"scene_seed": s, "recognizer": "oracle", "n_errands": 1, "seed": 0, "agent": "planner",
              "n_rooms": 3, "tour_steps_per_room": 30} for s in (0, 1)]
     run_jobs(jobs[:1], tmp_path)  # a partial run: one job of two
     first = capsys.readouterr().err.splitlines()
@@ -267,10 +267,11 @@ def test_a_run_says_at_once_what_it_will_run_and_what_it_kept(tmp_path, capsys):
 def test_the_lit_tracks_share_one_tour_and_the_corridor_tracks_another():
     from envs.runs.jobs import track_jobs
     from envs.runs.suite import TRACKS, track_task
+    from envs.runs.task_spec import ErrandTask
 
     names = [n for n in TRACKS if n != "long"]
-    jobs = track_jobs([0, 1], ["oracle"], {n: track_task(n) for n in names}, n_rooms=3,
-                      agent="relocalizer", goals=1, seed=0)
+    tasks = {n: ErrandTask.from_kwargs({"n_errands": 1, **track_task(n)}) for n in names}
+    jobs = track_jobs([0, 1], ["oracle"], tasks, n_rooms=3, agent="relocalizer", seed=0)
     assert len(jobs) == 4  # two tours a building
     lit = [j for j in jobs if j.get("local_light")]
     assert {tuple(sorted(j["tracks"])) for j in lit} == {(
@@ -311,7 +312,7 @@ def test_ctrl_c_is_one_line_exit_130_and_keeps_the_finished_jobs(tmp_path, capsy
 
     monkeypatch.setattr(job_runs, "_run_job", second_is_interrupted)
     argv = ["leaderboard", "--scene-seeds", "0", "1", "--rooms", "3", "--recognizers",
-            "oracle", "--goals-per-scene", "1", "--tour-steps-per-room", "30", "--workers",
+            "oracle", "--errands", "1", "--tour-steps-per-room", "30", "--workers",
             "1", "--out", str(tmp_path)]
     with pytest.raises(SystemExit) as stop:
         cli.main(argv)
@@ -377,7 +378,7 @@ def test_a_one_building_results_file_is_strict_json_with_null_intervals(tmp_path
     interval of one building is undefined."""
     from envs.runs.results import load_results, write_results
 
-    rows = run_jobs([{"scene_seed": 0, "recognizer": "oracle", "goals": 1, "seed": 0,
+    rows = run_jobs([{"scene_seed": 0, "recognizer": "oracle", "n_errands": 1, "seed": 0,
                       "agent": "planner", "n_rooms": 3, "tour_steps_per_room": 30}],
                     progress=False)
     path = tmp_path / "results.json"

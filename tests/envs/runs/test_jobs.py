@@ -2,6 +2,7 @@
 
 from envs.runs import jobs
 from envs.runs.jobs import make_jobs
+from envs.runs.task_spec import ErrandTask
 
 
 def test_the_slow_recognizers_run_first_and_the_oracles_last(monkeypatch):
@@ -17,7 +18,8 @@ def test_the_slow_recognizers_run_first_and_the_oracles_last(monkeypatch):
     monkeypatch.setattr(jobs, "run_all", run_all)
     names = ["oracle-cells:2", "none", "oracle", "examples.tiny_recognizer:HaarPlaces",
              "panorama-orb", "oracle-pose", "panorama"]
-    jobs.run_jobs(make_jobs([0], names, n_rooms=3, agent="spot", goals=1, seed=0),
+    jobs.run_jobs(make_jobs([0], names, ErrandTask(n_errands=1), n_rooms=3, agent="spot",
+                            seed=0),
                   progress=False)
     assert given[:3] == ["examples.tiny_recognizer:HaarPlaces", "panorama", "panorama-orb"]
     assert given[3] == "none" and set(given[4:]) == {"oracle-cells:2", "oracle", "oracle-pose"}

@@ -24,7 +24,7 @@ def test_a_suite_reports_on_test_buildings_and_is_frozen():
         assert set(suite.scene_seeds()) <= set(SPLITS["test"])
         assert len(suite.scene_seeds("quick")) < len(suite.scene_seeds())
         long = suite.task(track="long") if suite.tracks else suite.task("long")
-        assert long["tour_steps_per_room"] >= 500
+        assert long.tour_steps_per_room >= 500
         with pytest.raises(dataclasses.FrozenInstanceError):
             suite.goals = 1  # type: ignore[misc]
     with pytest.raises(ValueError, match="unknown suite 'placenav-v0'"):
@@ -50,7 +50,7 @@ def test_the_render_and_physics_fingerprints_are_stable_and_recorded():
     prov = provenance(SUITES["placenav-v1"], "quick")
     assert prov["render_fingerprint"] == render_fingerprint() and len(prov["versions"]) > 3
     assert prov["physics_fingerprint"] == physics_fingerprint()
-    assert prov["suite"] == "placenav-v1" and prov["definition"]["goals"] == 5
+    assert prov["suite"] == "placenav-v1" and prov["definition"]["n_errands"] == 5
     render_fingerprint.cache_clear()
     physics_fingerprint.cache_clear()
     assert render_fingerprint() == prov["render_fingerprint"]  # rendered again: the same
@@ -59,11 +59,17 @@ def test_the_render_and_physics_fingerprints_are_stable_and_recorded():
 
 def test_a_suite_fixes_its_buildings_and_errands(capsys):
     with pytest.raises(SystemExit):
+        leaderboard.main(["--suite", "placenav-v1", "--errands", "3"])
+    assert "fixes --errands" in capsys.readouterr().err
+    with pytest.raises(SystemExit):  # the old name is the same option, fixed too
         leaderboard.main(["--suite", "placenav-v1", "--goals-per-scene", "3"])
     assert "fixes --goals-per-scene" in capsys.readouterr().err
     with pytest.raises(SystemExit):  # an abbreviation would slip past the check
-        leaderboard.main(["--suite", "placenav-v1", "--goals", "3"])
-    assert "unrecognized arguments: --goals" in capsys.readouterr().err
+        leaderboard.main(["--suite", "placenav-v1", "--err", "3"])
+    assert "unrecognized arguments: --err" in capsys.readouterr().err
+    with pytest.raises(SystemExit):  # a size picks the suite's buildings, not others
+        leaderboard.main(["--suite", "placenav-v1", "--size", "quick", "--split", "val"])
+    assert "--size picks among the suite's buildings" in capsys.readouterr().err
     with pytest.raises(SystemExit):
         leaderboard.main(["--size", "quick"])
     assert "--size goes with --suite" in capsys.readouterr().err
@@ -74,7 +80,7 @@ def _tracked(**sizes: int):
     from envs.runs.suite import Suite
 
     return Suite(name="tracked-v0", env_id="PlaceNav-GuidedTour-v1", split="test",
-                 n_buildings=0, n_quick=1, n_long=0, n_rooms=3, goals=1, seed=0,
+                 n_buildings=0, n_quick=1, n_long=0, n_rooms=3, n_errands=1, seed=0,
                  tour_steps_per_room=30, long_tour_steps_per_room=500, agent="relocalizer",
                  tracks=tuple(sizes.items()))
 
@@ -85,9 +91,10 @@ def test_a_suite_of_tracks_sizes_each_track_on_its_own():
     assert suite.scene_seeds("full", "carried") == test[:2]
     assert suite.scene_seeds() == test[:3]  # every track's buildings
     assert suite.scene_seeds("quick", "continued") == test[:1]
-    assert suite.task(track="carried") == {"tour_steps_per_room": 30, "local_light": True,
-                                           "errand_start": "carried"}
-    assert suite.task(track="long")["tour_steps_per_room"] == 500
+    assert suite.task(track="carried").kwargs() == {
+        "n_errands": 1, "tour_steps_per_room": 30, "local_light": True,
+        "errand_start": "carried"}
+    assert suite.task(track="long").tour_steps_per_room == 500
     with pytest.raises(ValueError, match="its long tours|choose one of"):
         suite.scene_seeds("long")
     with pytest.raises(ValueError, match="no track 'corridor'"):
@@ -100,10 +107,8 @@ def test_a_suites_smaller_track_costs_no_tour_of_its_own(monkeypatch):
     from envs.runs.suite import track_task
 
     suite = _tracked(continued=3, carried=2, corridor=1)
-    settings = {t: {"scene_seeds": suite.scene_seeds("full", t), "task": suite.task(track=t)}
-                for t in suite.track_names}
-    jobs = leaderboard.suite_jobs(settings, ["oracle"], n_rooms=3, agent="relocalizer",
-                                  goals=1, seed=0)
+    plan = {t: (suite.scene_seeds("full", t), suite.task(track=t)) for t in suite.track_names}
+    jobs = leaderboard.suite_jobs(plan, ["oracle"], n_rooms=3, agent="relocalizer", seed=0)
     test = list(SPLITS["test"])
     served = sorted((j["scene_seed"], tuple(sorted(j["tracks"]))) for j in jobs)
     assert served == sorted([(test[0], ("carried", "continued")), (test[0], ("corridor",)),
@@ -140,22 +145,38 @@ def test_a_suite_of_tracks_runs_them_all_with_its_agent(monkeypatch, tmp_path, c
     assert len(list((tmp_path / "runs").glob("*.json"))) == 2  # one tour a recognizer
 
 
+def test_a_suites_settings_run_on_the_buildings_named_and_say_they_are_not_its(
+        monkeypatch, tmp_path, capsys):
+    suite = _tracked(continued=2, carried=1)
+    monkeypatch.setattr(leaderboard, "get_suite", lambda name: suite)
+    monkeypatch.setattr(leaderboard, "SUITES", {"tracked-v0": suite})
+    assert leaderboard.main(["--suite", "tracked-v0", "--scene-seeds", "1000",
+                             "--recognizers", "oracle", "--workers", "1",
+                             "--out", str(tmp_path)]) == 0
+    out = capsys.readouterr().out
+    assert "settings on buildings the command named, not the suite's" in out
+    for track in ("continued", "carried"):
+        doc = json.loads((tmp_path / track / "results.json").read_text())
+        assert doc["settings"]["scene_seeds"] == [1000]  # every track: the buildings named
+        assert doc["settings"]["agent"] == "relocalizer" and doc["settings"]["n_errands"] == 1
+        assert doc["provenance"]["suite"] == "tracked-v0"
+        assert doc["provenance"]["buildings"] == "named"
+
+
 def test_placenav_v5_asks_v4s_question_with_the_same_goals_for_all():
     """v5 runs PlaceNav-ImageGoal-v1 with the spot agent that remembers its errands, the
     gyro's heading and goals off the route; its changed tracks run on a fixed map too, and a
     building's one tour serves every lit track."""
     v5, v4 = SUITES["placenav-v5"], SUITES["placenav-v4"]
-    assert v5.agent == "spot-memory" and v5.goals == v4.goals
+    assert v5.agent == "spot-memory" and v5.n_errands == v4.n_errands
     assert set(v4.track_names) < set(v5.track_names)
     fixed = v5.task(track="changed-night-fixed")
-    assert fixed["errand_learn"] is False and fixed["errand_condition"] == "night"
-    assert {k: fixed[k] for k in ("env_id", "goal_kind", "compass")} == {
-        "env_id": "PlaceNav-ImageGoal-v1", "goal_kind": "image", "compass": "mpu9250"}
-    assert "env_id" not in v4.task(track="continued")  # v4's jobs keep their names
-    settings = {t: {"scene_seeds": v5.scene_seeds("quick", t), "task": v5.task(track=t)}
-                for t in v5.track_names}
-    jobs = leaderboard.suite_jobs(settings, ["oracle"], n_rooms=6, agent=v5.agent,
-                                  goals=v5.goals, seed=v5.seed)
+    assert fixed.errand_learn is False and fixed.errand_condition == "night"
+    assert (fixed.env_id, fixed.goal_kind, fixed.compass) == (
+        "PlaceNav-ImageGoal-v1", "image", "mpu9250")
+    assert "env_id" not in v4.task(track="continued").kwargs()  # v4's jobs keep their names
+    plan = {t: (v5.scene_seeds("quick", t), v5.task(track=t)) for t in v5.track_names}
+    jobs = leaderboard.suite_jobs(plan, ["oracle"], n_rooms=6, agent=v5.agent, seed=v5.seed)
     lit = [j for j in jobs if j.get("local_light")]
     assert len(lit) == 1 and len(lit[0]["tracks"]) == 8
     assert all(j["env_id"] == "PlaceNav-ImageGoal-v1" for j in jobs)

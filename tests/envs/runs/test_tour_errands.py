@@ -1,6 +1,6 @@
 from envs.runs.tour_errands import run_scene
 
-TINY = {"n_rooms": 3, "goals": 3, "recognizer": "oracle", "agent": "relocalizer",
+TINY = {"n_rooms": 3, "n_errands": 3, "recognizer": "oracle", "agent": "relocalizer",
         "tour_steps_per_room": 40, "errand_steps": 120, "panorama_width": 64,
         "panorama_height": 16}
 

@@ -89,7 +89,7 @@ def test_an_errand_starts_a_metre_or_more_of_walking_from_its_goal():
     from envs.runs.tour_errands import run_scene
 
     def errands(**kw):
-        return run_scene(0, n_rooms=3, recognizer="oracle", goals=6, seed=0,
+        return run_scene(0, n_rooms=3, recognizer="oracle", n_errands=6, seed=0,
                          tour_steps_per_room=40, **kw)["errands"]
 
     near = errands(min_errand_distance=0.0)  # v0: the room behind the door just reached

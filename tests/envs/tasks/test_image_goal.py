@@ -24,7 +24,7 @@ def test_every_recognizer_and_agent_gets_the_same_goals_errand_by_errand(track):
     """Fails if a goal (or a carried start) is drawn from a stream that where the robot
     stopped, or what the recognizer answered, can move: v4's draw did, and by the 15th errand
     most recognizers ran other errands than the true rooms."""
-    runs = [run_scene(2, recognizer=r, agent=a, goals=4, **{**TINY, **track_task(track)})
+    runs = [run_scene(2, recognizer=r, agent=a, n_errands=4, **{**TINY, **track_task(track)})
             for r, a in (("oracle", "spot-memory"), ("random", "random"),
                          ("oracle-cells:2", "spot-memory"), ("none", "spot-memory"))]
     stops = {tuple(round(e["final_distance"], 6) for e in row["errands"]) for row in runs}
@@ -58,18 +58,18 @@ def test_continued_goals_move_to_another_room_away_from_the_last_goal(made):
 def test_a_recognizer_that_ranks_never_leaves_a_goal_unknown():
     """PANORAMA_ORB's localize_one leaves goal pictures below its threshold unknown; its
     rank_places names one for every picture with features."""
-    row = run_scene(3, recognizer="panorama-orb", agent="spot-memory", goals=3,
+    row = run_scene(3, recognizer="panorama-orb", agent="spot-memory", n_errands=3,
                     **{**TINY, "panorama_width": 512, "panorama_height": 128})
     assert row["n_places"] >= 2 and not any(e["unknown"] for e in row["errands"])
     assert all(0 <= e["goal_place"] < 64 for e in row["errands"])
 
 
 def test_what_the_map_knew_of_the_goal_is_recorded():
-    rooms = run_scene(4, recognizer="oracle", agent="spot-memory", goals=3, **TINY)
+    rooms = run_scene(4, recognizer="oracle", agent="spot-memory", n_errands=3, **TINY)
     assert all(e["named_room"] and not e["unknown"] for e in rooms["errands"])
     assert all(e["spot_within"] <= e["named_fine"] <= e["named_room"]
                for e in rooms["errands"])
-    none = run_scene(4, recognizer="none", agent="spot-memory", goals=3, **TINY)
+    none = run_scene(4, recognizer="none", agent="spot-memory", n_errands=3, **TINY)
     assert all(e["unknown"] and not e["named_room"] for e in none["errands"])
     assert all(e["steps"] == 1 for e in none["errands"])  # nothing to go to: it gives up
 
