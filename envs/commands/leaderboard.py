@@ -242,28 +242,34 @@ def main(argv: list[str] | None = None, prog: str = "placeclust leaderboard"
     images = any(task.images for task in tasks)
     if images and not any(a.startswith("--recognizers") for a in argv):
         args.recognizers = ["oracle-pose", *args.recognizers]  # image goals' ceiling
-    localize = any(not task.errand_learn for task in tasks)
+    fixed = {t for t, (_, task) in plan.items() if not task.errand_learn}
     try:
         check_agent(args.agent, args.policy)
         check_goals(args.agent, tasks)
         params = recognizer_params(args.recognizers, args.preset, args.param)
-        skipped = [r for r in args.recognizers if localize and not localizes(r, params[r])]
-        args.recognizers = [r for r in args.recognizers if r not in skipped]
+        # a fixed map needs localize_one: one without it runs only where the map learns
+        skipped = [r for r in args.recognizers if fixed and not localizes(r, params[r])]
         if skipped:
-            print(f"skipped, no localize_one to run on a fixed map: {', '.join(skipped)}",
+            print(f"skipped on a fixed map (no localize_one): {', '.join(skipped)}"
+                  + (f" (tracks {', '.join(sorted(fixed))})" if len(fixed) < len(plan) else ""),
                   file=sys.stderr)
-        if not args.recognizers:
+        runs = {t: [r for r in args.recognizers if t not in fixed or r not in skipped]
+                for t in plan}
+        if not any(runs.values()):
             raise ValueError("no recognizer left to run: none of them can localize on a "
                              "fixed map; leave out --localize-only")
         common = {"n_rooms": args.rooms, "agent": args.agent, "seed": args.seed,
                   "policy": args.policy, "params": params}
         if args.tracks and len(args.tracks) > 1:
-            jobs = suite_jobs(plan, args.recognizers, **common)
+            able = [r for r in args.recognizers if r not in skipped]
+            learning = {t: v for t, v in plan.items() if t not in fixed}
+            jobs = (suite_jobs(plan, able, **common) if able else []) + (
+                suite_jobs(learning, skipped, **common) if skipped and learning else [])
             done = split_tracks(run_jobs(jobs, args.out, args.workers, args.executor))
             by_track: dict[str | None, list] = {t: done[t] for t in args.tracks}
         else:
             ((track, (seeds, task)),) = plan.items()
-            jobs = make_jobs(seeds, args.recognizers, task, **common)
+            jobs = make_jobs(seeds, runs[track], task, **common)
             by_track = {track: run_jobs(jobs, args.out, args.workers, args.executor)}
     except (ValueError, FileNotFoundError) as e:
         print(f"error: {e}", file=sys.stderr)
@@ -272,13 +278,14 @@ def main(argv: list[str] | None = None, prog: str = "placeclust leaderboard"
     for track, rows in by_track.items():
         out = args.out / track if several and track else args.out
         seeds, task = plan[track]
+        gone = skipped if track in fixed else []
         _report(args, prog, argv, rows, {**run_settings(args, seeds, task, track),
-                                         "recognizers": args.recognizers,
-                                         **({"skipped": skipped} if skipped else {})},
+                                         "recognizers": runs[track],
+                                         **({"skipped": gone} if gone else {})},
                 out, track, task)
     # image goals' ceiling knows the goal's pose; room goals' is the true rooms
     ceiling = "oracle-pose" if images else "oracle"
-    if several and {"none", ceiling} <= set(args.recognizers):
+    if several and all({"none", ceiling} <= set(runs[t]) for t in by_track):
         try:
             print("\n" + score_table(load_tracks([args.out / str(t) / "results.json"
                                                    for t in by_track]), "none", ceiling,
@@ -293,7 +300,7 @@ def _report(args: argparse.Namespace, prog: str, argv: list[str], rows: list[dic
     """One track's results file, table, plot and docs section."""
     suite = None if args.suite is None else get_suite(args.suite)
     seeds = settings["scene_seeds"]
-    doc = write_results(out / "results.json", rows, args.recognizers, settings,
+    doc = write_results(out / "results.json", rows, settings["recognizers"], settings,
                         provenance(suite, args.size, args.named_buildings))
     summaries = doc["summaries"]
     skipped = settings.get("skipped", [])

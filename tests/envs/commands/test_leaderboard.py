@@ -179,7 +179,7 @@ def test_a_track_runs_its_errands_and_a_fixed_map_skips_who_cannot_localize(tmp_
                        "--localize-only", "--agent", "relocalizer", "--workers", "1",
                        "--out", str(tmp_path)])
     captured = capsys.readouterr()
-    assert code == 0 and "skipped, no localize_one" in captured.err
+    assert code == 0 and "skipped on a fixed map (no localize_one)" in captured.err
     assert "Track `changed-night`" in captured.out and "HaarPlaces." in captured.out
     doc = json.loads((tmp_path / "results.json").read_text())
     assert doc["settings"]["track"] == "changed-night"

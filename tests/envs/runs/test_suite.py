@@ -163,6 +163,25 @@ def test_a_suites_settings_run_on_the_buildings_named_and_say_they_are_not_its(
         assert doc["provenance"]["buildings"] == "named"
 
 
+def test_a_recognizer_that_cannot_localize_is_skipped_only_where_the_map_is_fixed(
+        monkeypatch, tmp_path, capsys):
+    suite = _tracked(continued=1, **{"changed-night-fixed": 1})
+    monkeypatch.setattr(leaderboard, "get_suite", lambda name: suite)
+    monkeypatch.setattr(leaderboard, "SUITES", {"tracked-v0": suite})
+    mine = "examples.tiny_recognizer:HaarPlaces"  # no localize_one
+    assert leaderboard.main(["--suite", "tracked-v0", "--recognizers", "oracle", mine,
+                             "--workers", "1", "--out", str(tmp_path)]) == 0
+    err = capsys.readouterr().err
+    assert f"skipped on a fixed map (no localize_one): {mine} (tracks changed-night-fixed)" \
+        in err
+    learning = json.loads((tmp_path / "continued" / "results.json").read_text())
+    fixed = json.loads((tmp_path / "changed-night-fixed" / "results.json").read_text())
+    assert [s["recognizer"] for s in learning["summaries"]] == ["oracle", mine]
+    assert [s["recognizer"] for s in fixed["summaries"]] == ["oracle"]
+    assert fixed["settings"]["skipped"] == [mine] and "skipped" not in learning["settings"]
+    assert len(list((tmp_path / "runs").glob("*.json"))) == 2  # one tour a recognizer
+
+
 def test_placenav_v5_asks_v4s_question_with_the_same_goals_for_all():
     """v5 runs PlaceNav-ImageGoal-v1 with the spot agent that remembers its errands, the
     gyro's heading and goals off the route; its changed tracks run on a fixed map too, and a
