@@ -54,6 +54,8 @@ _SIZE = {"--scenes", "--scene-seeds", "--n-scenes", "--split", "--rooms", "--tou
          "--steps-per-room", "--steps", "--goals-per-scene", "--tour-steps-per-room",
          "--suite", "--sizes", "--repeats", "--rounds", "--errands",
          "--latency-sizes"}
+# a probe runs with a section's recorded code too: the leaderboard's errand count keeps the
+# spelling every version reads (--goals-per-scene, --errands since 0.19.0)
 _TINY = {
     "demo": "--rooms 2 --steps 60",
     "tour": "--rooms 2 --steps 40",
@@ -63,7 +65,7 @@ _TINY = {
     "latency": "--sizes 4 8 --repeats 1",
     "speed": "--steps 10 --rounds 1 --workers 1",
     "like": "--scenes 1000 --rooms 2 --steps-per-room 10",
-    "leaderboard": "--split val --n-scenes 2 --rooms 2 --errands 1 "
+    "leaderboard": "--split val --n-scenes 2 --rooms 2 --goals-per-scene 1 "
                    "--tour-steps-per-room 25 --workers 1",
     "train.drift": "--n-scenes 1 --rooms 2 --errands 1",
 }
@@ -74,7 +76,7 @@ STAND_IN = ("placeclust leaderboard --recognizers oracle none panorama panorama-
             "oracle-noise:0.05 --agent relocalizer --track")
 #: three rooms and errands a building, so that ``none`` falls below ``oracle`` on every track and
 #: ``placeclust score`` can normalize between them
-STAND_IN_SIZE = ("--split val --n-scenes 2 --rooms 3 --errands 3 "
+STAND_IN_SIZE = ("--split val --n-scenes 2 --rooms 3 --goals-per-scene 3 "
                  "--tour-steps-per-room 25 --workers 1")
 STAND_IN_PLAIN = "placeclust leaderboard --recognizers oracle none panorama panorama-orb"
 #: the options by which a reading command names recognizers (``compare --a``, ``score --pair``):

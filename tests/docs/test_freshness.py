@@ -226,7 +226,7 @@ def test_a_probe_is_the_sections_own_command_at_a_tiny_size():
     assert _probe("placeclust leaderboard --suite placenav-v1 --size quick --agent ppo "
                   "--out runs/quick --docs docs/benchmarks.md") == (
         "placeclust leaderboard --agent ppo --split val --n-scenes 2 --rooms 2 "
-        "--errands 1 --tour-steps-per-room 25 --workers 1 --out /tmp/x")
+        "--goals-per-scene 1 --tour-steps-per-room 25 --workers 1 --out /tmp/x")
     # what a suite fixes beyond its size is kept: placenav-v2's agent and tracks
     v2 = _probe("placeclust leaderboard --suite placenav-v2 --recognizers oracle none "
                 "--out runs/v2 --docs docs/benchmarks.md")
