@@ -42,6 +42,7 @@ import argparse
 import math
 import shlex
 import sys
+from dataclasses import replace
 from pathlib import Path
 from typing import Any
 
@@ -146,11 +147,11 @@ def plot(summaries: list[dict[str, Any]], path: Path) -> None:
 #: a run's plan: each track (``None``: no track) with its buildings and its errands
 Plan = dict[str | None, tuple[list[int], ErrandTask]]
 
-#: the options a suite fixes (its buildings are its own unless --split/--scene-seeds say)
+#: the options a suite fixes
 SUITE_FIXES = ("--rooms", "--errands", "--goals-per-scene", "--seed", "--tour-steps-per-room",
-               "--errand-start", "--layout", "--doors", "--local-light", "--track",
-               "--localize-only", "--goal-kind", "--success-radius")
-#: the options that name other buildings than a suite's
+               "--errand-start", "--layout", "--local-light", "--track", "--localize-only",
+               "--goal-kind", "--success-radius")
+#: the options that name other buildings than a suite's: others of a split, or with doors
 BUILDINGS = ("--split", "--scene-seeds", "--n-scenes")
 
 
@@ -178,17 +179,26 @@ def _plan(args: argparse.Namespace, p: argparse.ArgumentParser, argv: list[str])
     if fixed:
         p.error(f"the suite {args.suite} fixes {' '.join(fixed)}; leave them out, or "
                 "leave out --suite (the results then belong to no suite)")
-    args.named_buildings = bool(_given(argv, BUILDINGS))
-    if args.named_buildings and args.size != "full":
+    others = bool(_given(argv, BUILDINGS))
+    args.named_buildings = others or args.doors is not None
+    if others and args.size != "full":
         p.error("--size picks among the suite's buildings; --split/--scene-seeds name others")
-    named = scope_seeds(args, p) if args.named_buildings else []
-    if not args.named_buildings:
+    named = scope_seeds(args, p) if others else []
+    if not others:
         args.split = suite.split
     args.rooms, args.seed = suite.n_rooms, suite.seed
     args.agent = args.agent or suite.agent
-    args.tracks = suite.track_names or None
-    return {t: (named or suite.scene_seeds(args.size, t), suite.task(args.size, t))
-            for t in (args.tracks or [None])}
+    args.tracks = suite.tracks_at(args.size) or None
+    plan: Plan = {}
+    for t in args.tracks or [None]:
+        task = suite.task(args.size, t)
+        if args.doors is not None:  # the suite's errands in buildings with doors
+            try:
+                task = replace(task, doors=args.doors)
+            except ValueError as e:
+                p.error(str(e).replace("doors must", "--doors must"))
+        plan[t] = (named or suite.scene_seeds(args.size, t), task)
+    return plan
 
 
 def suite_jobs(plan: Plan, recognizers: list[str], **common: Any) -> list[dict[str, Any]]:
@@ -250,8 +260,9 @@ def main(argv: list[str] | None = None, prog: str = "placeclust leaderboard"
         # a fixed map needs localize_one: one without it runs only where the map learns
         skipped = [r for r in args.recognizers if fixed and not localizes(r, params[r])]
         if skipped:
-            print(f"skipped on a fixed map (no localize_one): {', '.join(skipped)}"
-                  + (f" (tracks {', '.join(sorted(fixed))})" if len(fixed) < len(plan) else ""),
+            where = f" (tracks {', '.join(sorted(map(str, fixed)))})" if len(fixed) < len(
+                plan) else ""
+            print(f"skipped on a fixed map (no localize_one): {', '.join(skipped)}{where}",
                   file=sys.stderr)
         runs = {t: [r for r in args.recognizers if t not in fixed or r not in skipped]
                 for t in plan}
@@ -342,8 +353,9 @@ def _describe(args: argparse.Namespace, seeds: list[int], summaries: list[dict[s
              f"fingerprint `{prov['render_fingerprint']}`, physics fingerprint "
              f"`{prov['physics_fingerprint']}`. " if prov["suite"] else "")
     if prov.get("buildings") == "named":
-        suite = suite.replace(f"({prov['size']})", "settings on buildings the command named, "
-                              "not the suite's: not its figures")
+        suite = suite.replace(f"`{prov['suite']}` ({prov['size']})",
+                              f"`{prov['suite']}`'s settings on other buildings than its own "
+                              "(named by the command, or with doors; not the suite's figures)")
     redrawn = sum(s["redrawn"] for s in summaries)
     where_from = f"Track `{track}`: {TRACKS[track].tests}. " if track else ""
     if not task.errand_learn:

@@ -76,6 +76,9 @@ class Suite:
             is then a track, not a size); none: one set of errands on ``n_buildings`` (v1).
         errands: ``(argument, value)`` pairs every track's errands add (v3: image goals,
             ``goal_kind`` and ``success_radius``); none: errands to named rooms.
+        quick_tracks, quick_errands: what the quick size runs, where it is less than the full
+            size's tracks and errands (v5: its quick check fits in 10 minutes); empty, 0: the
+            same.
     """
 
     name: str
@@ -93,6 +96,8 @@ class Suite:
     agent: str = "planner"
     tracks: tuple[tuple[str, int], ...] = ()
     errands: tuple[tuple[str, Any], ...] = ()
+    quick_tracks: tuple[str, ...] = ()
+    quick_errands: int = 0
 
     @property
     def sizes(self) -> tuple[str, ...]:
@@ -103,6 +108,11 @@ class Suite:
     def track_names(self) -> list[str]:
         """Its tracks, in order (empty for a suite of one set of errands)."""
         return [name for name, _ in self.tracks]
+
+    def tracks_at(self, size: str = "full") -> list[str]:
+        """The tracks it runs at ``size``: :attr:`track_names`, or the quick size's own."""
+        return list(self.quick_tracks) if size == "quick" and self.quick_tracks else \
+            self.track_names
 
     def scene_seeds(self, size: str = "full", track: str | None = None) -> list[int]:
         """The buildings of one of :attr:`sizes`: ``track``'s, or those of every track."""
@@ -127,7 +137,9 @@ class Suite:
             if track not in self.track_names:
                 raise ValueError(f"{self.name} runs its tracks one by one: name one of "
                                  f"{self.track_names}")
-            return ErrandTask.from_kwargs({"n_errands": self.n_errands,
+            errands = self.quick_errands if size == "quick" and self.quick_errands else \
+                self.n_errands
+            return ErrandTask.from_kwargs({"n_errands": errands,
                                            "tour_steps_per_room": self.tour_steps_per_room,
                                            **track_task(track), **dict(self.errands)})
         steps = self.long_tour_steps_per_room if size == "long" else self.tour_steps_per_room

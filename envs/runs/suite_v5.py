@@ -60,4 +60,10 @@ V5: dict[str, Any] = {
     "errands": (("env_id", "PlaceNav-ImageGoal-v1"), ("goal_kind", "image"),
                 ("success_radius", 1.0), ("goal_offset", GOAL_OFFSET),
                 ("compass", "mpu9250")),
+    # the quick check: every track but the long tours, 5 errands (one building of every
+    # track with 15 took 16 minutes on 2 cores, PANORAMA's lit tour alone 11)
+    "quick_tracks": ("continued", "changed-night", "changed-cloudy", "changed-moved", "carried",
+                     "corridor", "corridor-carried", "changed-night-fixed",
+                     "changed-cloudy-fixed", "changed-moved-fixed"),
+    "quick_errands": 5,
 }

@@ -154,13 +154,23 @@ def test_a_suites_settings_run_on_the_buildings_named_and_say_they_are_not_its(
                              "--recognizers", "oracle", "--workers", "1",
                              "--out", str(tmp_path)]) == 0
     out = capsys.readouterr().out
-    assert "settings on buildings the command named, not the suite's" in out
+    assert ("Suite `tracked-v0`'s settings on other buildings than its own (named by the "
+            "command, or with doors; not the suite's figures), placeclust") in out
     for track in ("continued", "carried"):
         doc = json.loads((tmp_path / track / "results.json").read_text())
         assert doc["settings"]["scene_seeds"] == [1000]  # every track: the buildings named
         assert doc["settings"]["agent"] == "relocalizer" and doc["settings"]["n_errands"] == 1
         assert doc["provenance"]["suite"] == "tracked-v0"
         assert doc["provenance"]["buildings"] == "named"
+    # with doors: the suite's own buildings, their doorways with doors, and said so too
+    assert leaderboard.main(["--suite", "tracked-v0", "--doors", "1.0", "--recognizers",
+                             "oracle", "--workers", "1", "--out", str(tmp_path / "doors")]) == 0
+    doc = json.loads((tmp_path / "doors" / "carried" / "results.json").read_text())
+    assert doc["settings"]["task"]["doors"] == 1.0 and doc["provenance"]["buildings"] == "named"
+    assert doc["settings"]["scene_seeds"] == suite.scene_seeds("full", "carried")
+    with pytest.raises(SystemExit):
+        leaderboard.main(["--suite", "tracked-v0", "--doors", "2"])
+    assert "--doors must be a fraction" in capsys.readouterr().err
 
 
 def test_a_recognizer_that_cannot_localize_is_skipped_only_where_the_map_is_fixed(
@@ -194,6 +204,9 @@ def test_placenav_v5_asks_v4s_question_with_the_same_goals_for_all():
     assert (fixed.env_id, fixed.goal_kind, fixed.compass) == (
         "PlaceNav-ImageGoal-v1", "image", "mpu9250")
     assert "env_id" not in v4.task(track="continued").kwargs()  # v4's jobs keep their names
+    assert "long" not in v5.tracks_at("quick") and len(v5.tracks_at("quick")) == 10
+    assert v5.task("quick", "continued").n_errands == 5 and v4.tracks_at("quick") == \
+        v4.track_names  # v4's quick size as published
     plan = {t: (v5.scene_seeds("quick", t), v5.task(track=t)) for t in v5.track_names}
     jobs = leaderboard.suite_jobs(plan, ["oracle"], n_rooms=6, agent=v5.agent, seed=v5.seed)
     lit = [j for j in jobs if j.get("local_light")]
