@@ -6,16 +6,22 @@ PY := $(VENV)/bin/python
 PIP := $(PY) -m pip
 export MUJOCO_GL ?= egl
 
-.PHONY: demo test test-oldest docs-check docs-verify real-images benchmarks bench bench-quick bench-long bench-env bench-latency train eval \
+.PHONY: demo test pin test-oldest docs-check docs-verify real-images benchmarks bench bench-quick bench-long bench-env bench-latency train eval \
 	leaderboard leaderboard-v1 leaderboard-v3 leaderboard-v4 train-errands train-tour train-reachroom agents-tour agents-suite seed001 \
 	clean
 
-$(VENV)/.installed: pyproject.toml
+$(VENV)/.installed: pyproject.toml constraints.txt
 	$(PYTHON) -m venv $(VENV)
 	$(PIP) install --quiet --upgrade pip
-	$(PIP) install --quiet torch==2.13.0
-	$(PIP) install --quiet -e ".[train,surf,ray,dev]"
+	$(PIP) install --quiet -c constraints.txt torch
+	$(PIP) install --quiet -c constraints.txt -e ".[train,surf,ray,dev]"
 	touch $@
+
+# constraints.txt from .venv: the pinned benchmark environment (upgrade a library, then pin)
+pin:
+	sed -n '/^#/p' constraints.txt > constraints.txt.new
+	$(PIP) freeze --exclude-editable | sed 's/+cpu$$//' >> constraints.txt.new
+	mv constraints.txt.new constraints.txt
 
 demo: $(VENV)/.installed
 	$(VENV)/bin/placeclust demo --out runs/demo
