@@ -50,13 +50,13 @@ GOAL_OFFSET = 0.5
 #: ``placenav-v5``: :class:`~envs.runs.suite.Suite`'s arguments
 V5: dict[str, Any] = {
     "name": "placenav-v5", "env_id": "PlaceNav-ImageGoal-v1", "split": "test",
-    "n_buildings": 12, "n_quick": 1, "n_long": 4, "n_rooms": 6, "n_errands": 15, "seed": 0,
+    "n_buildings": 10, "n_quick": 1, "n_long": 3, "n_rooms": 6, "n_errands": 15, "seed": 0,
     "tour_steps_per_room": 150, "long_tour_steps_per_room": 500, "agent": "spot-memory",
     "metrics": ("success_rate", "spl", "final_distance", "precision", "nmi", "places_per_room"),
-    "tracks": (("continued", 12), ("changed-night", 12), ("changed-cloudy", 12),
-               ("changed-moved", 12), ("carried", 12), ("corridor", 12),
-               ("corridor-carried", 12), ("long", 4), ("changed-night-fixed", 12),
-               ("changed-cloudy-fixed", 12), ("changed-moved-fixed", 12)),
+    "tracks": (("continued", 10), ("changed-night", 10), ("changed-cloudy", 10),
+               ("changed-moved", 10), ("carried", 10), ("corridor", 10),
+               ("corridor-carried", 10), ("long", 3), ("changed-night-fixed", 10),
+               ("changed-cloudy-fixed", 10), ("changed-moved-fixed", 10)),
     "errands": (("env_id", "PlaceNav-ImageGoal-v1"), ("goal_kind", "image"),
                 ("success_radius", 1.0), ("goal_offset", GOAL_OFFSET),
                 ("compass", "mpu9250")),
