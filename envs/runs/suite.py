@@ -328,7 +328,7 @@ def physics_fingerprint() -> str:
     Two machines with the same fingerprint simulate the benchmark's robot bit for bit alike.
     The render fingerprint cannot tell: MuJoCo 3.17 and 4.0 draw the same pixels, but the same
     drive ends 3 cm and 0.10 rad apart, and the same errands end otherwise
-    (``tests/envs/world/physics_reference.json`` holds the fingerprint for one version).
+    (``tests/envs/world/physics_reference.json`` holds it for the versions it was driven with).
     """
     import mujoco
 

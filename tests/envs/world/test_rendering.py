@@ -153,9 +153,10 @@ def test_the_renderer_draws_the_stored_reference_pixels():
 
 
 def test_the_simulator_drives_the_stored_reference_path():
-    """The physics fingerprint of the fixed drive, stored with the MuJoCo that simulated it:
-    with that MuJoCo a change that moves the robot by one bit fails here (the pixels alone
-    cannot tell: MuJoCo 3.17 draws 4.0's pixels but drives elsewhere)."""
+    """The physics fingerprint of the fixed drive, stored with the MuJoCo that simulated it (the
+    pinned environment's among them): with that MuJoCo a change that moves the robot by one bit
+    fails here (the pixels alone cannot tell: MuJoCo 3.17 draws 4.0's pixels but drives
+    elsewhere, and 4.0.1 drives otherwise than 4.0.0)."""
     import json
     import platform
     from pathlib import Path
@@ -166,6 +167,9 @@ def test_the_simulator_drives_the_stored_reference_path():
 
     stored = json.loads((Path(__file__).parent / "physics_reference.json").read_text())
     here = {"mujoco": mujoco.__version__, "machine": platform.machine()}
-    if here != {k: stored[k] for k in here}:
-        pytest.skip(f"the reference was driven by {stored}; this machine has {here}")
-    assert physics_fingerprint() == stored["physics_fingerprint"]
+    alike = [ref for ref in stored["references"] if here == {k: ref[k] for k in here}]
+    if not alike:  # the pinned environment (constraints.txt) has one: a fresh install runs it
+        drove = [{k: ref[k] for k in here} for ref in stored["references"]]
+        pytest.skip(f"not the pinned environment: the references were driven by {drove}; "
+                    f"this machine has {here}")
+    assert physics_fingerprint() in {ref["physics_fingerprint"] for ref in alike}
