@@ -151,7 +151,7 @@ Plan = dict[str | None, tuple[list[int], ErrandTask]]
 SUITE_FIXES = ("--rooms", "--errands", "--goals-per-scene", "--seed", "--tour-steps-per-room",
                "--errand-start", "--layout", "--local-light", "--track", "--localize-only",
                "--goal-kind", "--success-radius")
-#: the options that name other buildings than a suite's: others of a split, or with doors
+#: the options that name other buildings than a suite's (--doors, buildings with doors, too)
 BUILDINGS = ("--split", "--scene-seeds", "--n-scenes")
 
 

@@ -30,6 +30,7 @@ from placeclust.atomic import write_atomic
 from placeclust.stats import Estimate, buildings_for, interval, paired_difference
 
 from ..tasks.oracles import error_of
+from .task_spec import ErrandTask
 
 FORMAT = "placeclust-results/2"
 #: the formats :func:`load_results` still reads, each upgraded to :data:`FORMAT` on reading
@@ -131,11 +132,15 @@ def load_results(path: Path) -> dict[str, Any]:
 
 
 def _upgrade(doc: dict[str, Any]) -> None:
-    """A ``placeclust-results/1`` file as /2: the errand count's one name, ``n_errands``,
-    and a suite's own buildings said."""
+    """A ``placeclust-results/1`` file as /2: the errand count's one name, ``n_errands``, the
+    task as :class:`~envs.runs.task_spec.ErrandTask` writes it (a default value left out, so
+    the same task compares equal), and a suite's own buildings said."""
     settings, prov = doc.get("settings", {}), doc.get("provenance", {})
     if "goals" in settings:
         settings["n_errands"] = settings.pop("goals")
+    if isinstance(settings.get("task"), dict):  # as /2 writes it: what differs from defaults
+        task = ErrandTask.within({**settings["task"], "n_errands": 1}).kwargs()
+        settings["task"] = {k: v for k, v in task.items() if k != "n_errands"}
     for summary in doc.get("summaries", []):
         if isinstance(summary.get("errands"), int):
             summary["n_errands"] = summary.pop("errands")

@@ -243,10 +243,12 @@ def test_an_old_results_file_is_read_with_todays_names(results, tmp_path, capsys
     for summary in old["summaries"]:
         summary["errands"] = summary.pop("n_errands")
     del old["provenance"]["buildings"]
+    old["settings"]["task"] = {"tour_steps_per_room": 150, "success_radius": 1.0}  # defaults
     path = tmp_path / "old.json"
     path.write_text(json.dumps(old))
     doc = load_results(path)
     assert doc["settings"]["n_errands"] == 4 and doc["provenance"]["buildings"] == "suite"
+    assert doc["settings"]["task"] == {}  # written as today's: the defaults left out
     assert [s["n_errands"] for s in doc["summaries"]] == [16, 16]
     assert compare.main([str(results), str(path), "--a", "good", "--b", "poor"]) == 0
     assert "FLAG" not in capsys.readouterr().out

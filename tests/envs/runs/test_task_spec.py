@@ -7,11 +7,11 @@ from envs.runs.task_spec import ErrandTask
 from envs.runs.tour_errands import check_goals
 
 
-def test_a_default_task_keeps_only_the_errand_count_so_old_job_keys_hold():
+def test_a_task_says_only_the_count_and_what_differs_from_the_envs_defaults():
     assert ErrandTask().kwargs() == {"n_errands": 5}
     v4 = SUITES["placenav-v4"].task(track="carried")
     assert v4.kwargs() == {"n_errands": 15, "local_light": True, "errand_start": "carried",
-                           "goal_kind": "image"}  # v4's jobs as before: no env_id, radius 1
+                           "goal_kind": "image"}  # no env_id, tour length or radius: defaults
     assert ErrandTask.from_kwargs(v4.kwargs()) == v4
 
 
