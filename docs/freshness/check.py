@@ -205,8 +205,46 @@ def write_stale_list(docs: Path = DOCS, manifest: Path = MANIFEST) -> dict[str, 
         body = ("No table is known to differ from what today's code measures: each is current, "
                 "or a dated record whose code has changed in ways its probe does not see "
                 "(`python -m docs.freshness verify`).")
+    accepted = sorted(n for n in state["current"] if "accepted" in data["sections"][n])
+    if accepted:  # current in figures; their words are the older code's until measured again
+        body += ("\n\nThese tables' probes differ in words printed beside the figures, not in "
+                 "a figure (read and accepted, `python -m docs.freshness accept`); the text "
+                 "above each is the older code's until it is measured again:\n\n"
+                 + "\n".join(f"- `{n}`: {data['sections'][n]['accepted']['difference']} "
+                              f"({data['sections'][n]['accepted']['because']})"
+                              for n in accepted))
     write_section(docs, SECTION, body, "python -m docs.freshness check --write")
     return status(docs, manifest)
+
+
+def accept(names: list[str], because: str, docs: Path = DOCS, manifest: Path = MANIFEST
+           ) -> None:
+    """Take sections whose probe differs (:func:`run_verify`) as current where a person read
+    both probes' tables and found that no figure differs, only words the table prints beside
+    them (a setting renamed in a flag line): today's fingerprint is recorded with the
+    difference and ``because``, and the docs' ``freshness`` section lists them until the
+    section is measured again (:func:`record`).
+
+    Raises:
+        ValueError: no reason given, or a section that does not differ.
+    """
+    import datetime
+
+    if not because.strip():
+        raise ValueError("say why the difference is not a figure (--because)")
+    with _locked(manifest):
+        data = load(manifest)
+        same = sorted(set(names) - set(data["differs"]))
+        if same:
+            raise ValueError(f"{same} do not differ: accept only what verify found different")
+        for name in names:
+            entry = data["sections"][name]
+            entry["accepted"] = {"difference": entry.pop("difference", ""), "because": because,
+                                 "date": str(datetime.date.today())}
+            entry["fingerprint"] = fingerprint(entry["trace"])
+            data["differs"].pop(name)
+        save(data, manifest)
+    write_stale_list(docs, manifest)
 
 
 def run_verify(names: list[str], docs: Path = DOCS, manifest: Path = MANIFEST,
@@ -314,17 +352,23 @@ def _parser() -> ArgumentParser:
     rec.add_argument("names", nargs="*", help="sections (default: the unrecorded ones)")
     rec.add_argument("--now", action="store_true",
                      help="the sections were just measured by the code as it stands")
+    acc = sub.add_parser("accept", help="take sections whose probe differs only in words "
+                         "beside the figures as current, saying why (listed in the docs)")
+    acc.add_argument("names", nargs="+", help="sections verify found to differ")
+    acc.add_argument("--because", required=True, help="what differs and why it is no figure")
     for q in (ver, rec):
         q.add_argument("--scratch", type=Path, help="a folder for the tiny runs (kept)")
-    for q in (check, ver, rec):
+    for q in (check, ver, rec, acc):
         q.add_argument("--docs", type=Path, default=DOCS)
         q.add_argument("--manifest", type=Path, default=MANIFEST)
     return p
 
 
 def _act(args: Any) -> None:
-    """``record`` or ``verify`` (``check`` only reports)."""
-    if args.what == "record":
+    """``record``, ``verify`` or ``accept`` (``check`` only reports)."""
+    if args.what == "accept":
+        accept(args.names, args.because, args.docs, args.manifest)
+    elif args.what == "record":
         names = args.names or status(args.docs, args.manifest)["unrecorded"]
         record(names, args.docs, args.manifest, args.scratch, now=args.now)
     elif args.what == "verify":

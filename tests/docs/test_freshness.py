@@ -125,6 +125,34 @@ def test_verify_makes_a_moved_table_current_or_lists_it_as_differing(repo_docs, 
         assert freshness.status(docs, manifest)["moved"] == ["table"]
 
 
+def test_a_difference_in_words_only_is_accepted_with_its_reason_and_listed(repo_docs,
+                                                                          monkeypatch):
+    """Fault caught: accepting a table no probe found different, or without a reason, or
+    leaving an accepted one unlisted in the docs or listed after it is measured again."""
+    docs, manifest = repo_docs
+    monkeypatch.setattr(freshness, "CITED", {"table": "README.md, a figure"})
+    check = ["check", "--docs", str(docs), "--manifest", str(manifest)]
+    with pytest.raises(ValueError, match="do not differ"):
+        freshness.accept(["table"], "a renamed key", docs, manifest)
+    _older(manifest)
+    monkeypatch.setattr(freshness.verify, "verdict", lambda name, entry, commands, scratch: (
+        False, "'goals: 1' → 'n_errands: 1'"))
+    monkeypatch.setattr(freshness, "measured_commit", lambda name, entry, docs: "c0ffee")
+    freshness.run_verify(["table"], docs, manifest, docs.parent / "scratch", log=lambda _: None)
+    assert freshness.main(check) == 1  # cited and differing
+    assert freshness.main(["accept", "table", "--because", " ", *check[1:]]) == 2
+    assert freshness.main(["accept", "table", "--because", "the errand count's key renamed",
+                           *check[1:]]) == 0
+    assert freshness.main(check) == 0 and freshness.status(docs, manifest)["current"] == [
+        "table"]
+    text = docs.read_text()
+    assert "- `table`: 'goals: 1' → 'n_errands: 1' (the errand count's key renamed)" in text
+    freshness.record(["table"], docs, manifest, docs.parent / "scratch", log=lambda _: None,
+                     now=True)  # measured again: its words are today's
+    freshness.write_stale_list(docs, manifest)
+    assert "errand count's key renamed" not in docs.read_text()
+
+
 def test_a_verdict_saved_by_another_verify_during_a_probe_is_kept(repo_docs, monkeypatch):
     """Fault caught: writing back the manifest as it was read before the probe, which drops
     what a verify process beside this one saved meanwhile."""
