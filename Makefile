@@ -7,7 +7,7 @@ PIP := $(PY) -m pip
 export MUJOCO_GL ?= egl
 
 .PHONY: demo test pin test-oldest docs-check docs-verify real-images benchmarks bench bench-quick bench-long bench-env bench-latency train eval \
-	leaderboard leaderboard-v1 leaderboard-v3 leaderboard-v4 leaderboard-v5 leaderboard-v5-companions train-errands train-tour train-reachroom agents-tour agents-suite seed001 \
+	renderers leaderboard leaderboard-v1 leaderboard-v3 leaderboard-v4 leaderboard-v5 leaderboard-v5-companions train-errands train-tour train-reachroom agents-tour agents-suite seed001 \
 	clean
 
 $(VENV)/.installed: pyproject.toml constraints.txt
@@ -103,6 +103,22 @@ ORB_TOURS := --preset panorama-orb --algos online --features orb --conditions da
 	--tour-seeds 0 1 --steps-per-room 150 --latency-sizes
 # the offline baselines given as many places as rooms, or as the online recognizer opened
 MATCHED := --algos kmeans wpgma kunion --conditions day --latency-sizes
+# The renderer's part of the figures (docs.renderers): llvmpipe as this CPU draws it and limited
+# to SSE4.1 at 128 bits, as on a CPU without AVX; the demo, the README's open-loop test tours and
+# placenav-v4's best real recognizer (the native rows: its shipped store). ~1 h 15 min on 2 cores.
+RENDER_OUT := runs/renderers
+SSE41 := GALLIUM_OVERRIDE_CPU_CAPS=sse4.1
+renderers: $(VENV)/.installed
+	$(VENV)/bin/placeclust demo --out $(RENDER_OUT)/native/demo
+	$(SSE41) $(VENV)/bin/placeclust demo --out $(RENDER_OUT)/sse41/demo
+	$(VENV)/bin/placeclust bench $(SPLIT_TOURS:--latency-sizes=) --split test \
+		--out $(RENDER_OUT)/native/bench
+	$(SSE41) $(VENV)/bin/placeclust bench $(SPLIT_TOURS:--latency-sizes=) --split test \
+		--out $(RENDER_OUT)/sse41/bench
+	$(SSE41) $(VENV)/bin/placeclust leaderboard --suite placenav-v4 --recognizers panorama-orb \
+		--out $(RENDER_OUT)/sse41/placenav-v4
+	$(PY) -m docs.renderers $(RENDER_OUT) --store docs/runs/placenav-v4 $(DOCS)
+
 benchmarks: $(VENV)/.installed
 	$(VENV)/bin/placeclust demo --out runs/demo $(DOCS)
 	$(VENV)/bin/placeclust bench --quick $(MATCHED) --param n_clusters=rooms --out runs/matched-rooms $(DOCS)

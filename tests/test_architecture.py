@@ -9,7 +9,7 @@ from collections import Counter
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parent.parent
-PACKAGES = ("placeclust", "envs", "train", "docs/freshness")
+PACKAGES = ("placeclust", "envs", "train", "docs")
 
 
 def _modules() -> set[str]:
