@@ -242,8 +242,8 @@ V5_TRACKS := $(foreach t,$(TRACKS) changed-night-fixed changed-cloudy-fixed chan
 leaderboard-v5: $(VENV)/.installed
 	$(VENV)/bin/placeclust leaderboard --suite placenav-v5 --out $(V5_OUT) --recognizers \
 		$(filter-out oracle-door:1 oracle-revisit:0.5,$(IMAGE_GOALS)) $(DOCS)
-	$(VENV)/bin/placeclust score $(V5_TRACKS) $(IMAGE_PAIRS) --decompose $(DOCS) \
-		--section score-placenav-v5
+	$(VENV)/bin/placeclust score $(V5_TRACKS) $(IMAGE_PAIRS) --pair panorama random \
+		--pair panorama-orb random --decompose $(DOCS) --section score-placenav-v5
 
 # v5's companions: seed 000's values beside PANORAMA (whose kept jobs, with the ceiling's and
 # none's, are copied from v5's store: the same jobs, not run again), and seed 001 at 100
