@@ -11,7 +11,7 @@ llvmpipe as this CPU draws (``native``) and limited to SSE4.1 at 128 bits
 ``bench/results.csv`` (the README's open-loop ``test`` tours) and, for ``sse41``,
 ``placenav-v4/<track>/results.json`` (its best real recognizer, ``panorama-orb``). The native closed-loop
 rows are the shipped store's (``--store``), which the pinned environment reproduces row for row
-(``placeclust reproduce``); ``none`` and ``oracle-pose`` read no pixels, so they bound both.
+(``python -m envs.commands.reproduce``); ``none`` and ``oracle-pose`` read no pixels, so they bound both.
 
 The section ``renderers`` gives each figure on both renderers and their paired difference
 with its 95% interval over buildings, and says which figures hold (the interval holds 0) and

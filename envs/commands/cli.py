@@ -405,8 +405,6 @@ COMMANDS = {
                 "differences with their intervals"),
     "score": (".score", "one suite score over closed-loop tracks, normalized "
               "between no ids and the true rooms, with paired comparisons"),
-    "reproduce": (".reproduce", "run a shipped job store's cheapest jobs again and compare "
-                  "them with its rows, field by field"),
     "seed001": (".seed001", "seed 001's experiment on its paper's forward camera"),
     "longrun": (".longrun", "the online recognizer in the loop for many steps"),
     "speed": (".speed", "the simulator's steps per second against a bare render"),

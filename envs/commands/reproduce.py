@@ -1,7 +1,6 @@
-"""``placeclust reproduce``: whether this install gives a shipped job store's rows again, row
-for row.
+"""Whether this install gives a shipped job store's rows again, row for row.
 
-    placeclust reproduce docs/runs/placenav-v4 [--recognizer nested] [--jobs 1]
+    python -m envs.commands.reproduce docs/runs/placenav-v4 [--recognizer nested] [--jobs 1]
 
 A frozen suite's store (``docs/runs/<suite>/runs``, written by ``placeclust leaderboard
 --suite``) keeps every job's row: one recognizer's guided tour of one building and its
@@ -10,7 +9,9 @@ fingerprint that made it. This command runs the ``--jobs`` cheapest stored jobs 
 recorded seconds) again with today's code and compares every recorded field, errand by
 errand: one line per job, ``same`` or the first fields that differ (exit 1 if any does).
 
-Timings (``seconds``) are not compared. A store this machine cannot reproduce is refused in
+Run from a clone (the store ships in ``docs/runs/``; not yet a ``placeclust`` subcommand, as
+adding one moves every cited section's code fingerprint). Timings (``seconds``) are not
+compared. A store this machine cannot reproduce is refused in
 one line, exit 2, before anything runs: rows drawn by another render fingerprint (rendering
 depends on the CPU) or driven by another MuJoCo (its physics differ between versions). A fresh
 install from ``constraints.txt`` (what every make target installs) has the pinned MuJoCo, so
@@ -122,7 +123,8 @@ def run_again(job: dict[str, Any]) -> dict[str, Any]:
     return json.loads(strict_json.dumps(run_scene(**job)))
 
 
-def main(argv: list[str] | None = None, prog: str = "placeclust reproduce") -> int:
+def main(argv: list[str] | None = None,
+         prog: str = "python -m envs.commands.reproduce") -> int:
     p = ArgumentParser(prog=prog, description=__doc__,
                        formatter_class=argparse.RawDescriptionHelpFormatter)
     p.add_argument("store", type=Path, help="a suite's job store (docs/runs/<suite>)")
@@ -154,3 +156,7 @@ def main(argv: list[str] | None = None, prog: str = "placeclust reproduce") -> i
                                    f"{len(found)} fields differ, first: " + "; ".join(found[:3])))
     print(f"{len(jobs) - differing} of {len(jobs)} stored jobs of {suite} reproduced row for row")
     return 1 if differing else 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())

@@ -1,4 +1,4 @@
-"""``placeclust reproduce``: a shipped store's rows come out of this install, field by field."""
+"""``python -m envs.commands.reproduce``: a shipped store's rows come out of this install, field by field."""
 
 import json
 import shutil
