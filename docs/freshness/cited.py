@@ -10,7 +10,7 @@ section here when a claim starts citing it; drop it when no claim does.
 #: (``python -m docs.freshness verify calibration-placenav-v2``, about half an hour); and
 #: ``simulator``, whose figures are speeds: the design cites them as measured on their day
 CITED: dict[str, str] = {
-    "demo": "README: `make demo`: 0.972 / 0.896 / 5",
+    "demo": "README: | `d77808d5ebdff7e4` | 0.860 / 0.636 / 9 | 0.964 / 0.828 / 6 | ...",
     "panorama-test": "README: | `PANORAMA`, SIFT | 0.985 [0.981, 0.991] (0.948)",
     "panorama-orb-test": "README: | `PANORAMA_ORB`, ORB | 0.975 [0.971, 0.980] (0.941)",
     "matched-online": "design.md: method is compared with the others at matched numbers of pla",
