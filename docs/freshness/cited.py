@@ -11,8 +11,8 @@ section here when a claim starts citing it; drop it when no claim does.
 #: ``simulator``, whose figures are speeds: the design cites them as measured on their day
 CITED: dict[str, str] = {
     "demo": "README: | `d77808d5ebdff7e4` | 0.860 / 0.636 / 9 | 0.964 / 0.828 / 6 | ...",
-    "panorama-test": "README: | `PANORAMA`, SIFT | 0.985 [0.981, 0.991] (0.948)",
-    "panorama-orb-test": "README: | `PANORAMA_ORB`, ORB | 0.975 [0.971, 0.980] (0.941)",
+    "panorama-test": "README: | `PANORAMA`, SIFT | 0.985 [0.981, 0.990] (0.964)",
+    "panorama-orb-test": "README: | `PANORAMA_ORB`, ORB | 0.972 [0.959, 0.979] (0.851)",
     "matched-online": "design.md: method is compared with the others at matched numbers of pla",
     "matched-rooms": "design.md: method is compared with the others at matched numbers of pla",
     "seed001-test": "README: **Seed 001 on its paper's camera** (`make seed001`, 4 `test`",
