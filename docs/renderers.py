@@ -122,11 +122,14 @@ def merged_tracks(store: Path, sse41: Path) -> dict[str, dict[str, Any]]:
         if track not in second:
             raise ValueError(f"the second renderer has no track {track!r} of {store}")
         other = second[track]
+        # the native rows of the bounds and of what the second renderer drew, no others
+        keep = {"none", "oracle-pose", *(r["recognizer"] for r in other["buildings"])}
         renamed = [{**r, "recognizer": SECOND.format(r["recognizer"])} for r in other["buildings"]]
         summaries = [{**s, "recognizer": SECOND.format(s["recognizer"])}
                      for s in other["summaries"]]
-        merged[track] = {**doc, "buildings": doc["buildings"] + renamed,
-                         "summaries": doc["summaries"] + summaries}
+        merged[track] = {
+            **doc, "buildings": [r for r in doc["buildings"] if r["recognizer"] in keep] + renamed,
+            "summaries": [s for s in doc["summaries"] if s["recognizer"] in keep] + summaries}
     return merged
 
 
