@@ -117,7 +117,7 @@ renderers: $(VENV)/.installed
 		--out $(RENDER_OUT)/sse41/bench
 	$(SSE41) $(VENV)/bin/placeclust leaderboard --suite placenav-v4 --recognizers panorama-orb \
 		--out $(RENDER_OUT)/sse41/placenav-v4
-	$(PY) -m docs.renderers $(RENDER_OUT) --store docs/runs/placenav-v4 $(DOCS)
+	$(PY) -m docs.renderers $(RENDER_OUT) --store docs/runs/placenav-v4 --docs docs/rendering.md
 
 benchmarks: $(VENV)/.installed
 	$(VENV)/bin/placeclust demo --out runs/demo $(DOCS)

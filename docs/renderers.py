@@ -1,7 +1,7 @@
 """The renderer's part of the figures: the same measurements drawn by two renderers, paired.
 
     python -m docs.renderers runs/renderers [--store docs/runs/placenav-v4] \\
-        [--docs docs/benchmarks.md]
+        [--docs docs/rendering.md]
 
 Rendering is Mesa's llvmpipe, whose pixels depend on the CPU
 (``envs.runs.suite.render_fingerprint``). ``make renderers`` measures on one machine with
@@ -14,10 +14,10 @@ closed-loop rows are the shipped store's (``--store``), which the pinned environ
 row for row (``python -m envs.commands.reproduce``); ``none`` and ``oracle-pose`` read no
 pixels, so they bound both.
 
-The section ``renderers`` gives each figure on both renderers, the native one with its 95%
-interval over buildings, and their paired difference; a figure *holds* where the second
-renderer's value lies within the native interval, and the section names those that do not.
-Repository tooling, not in the wheel.
+The section ``renderers`` (``docs/rendering.md``, a dated record) gives each figure on both
+renderers, the native one with its 95% interval over buildings, and their paired difference;
+a figure *holds* where the second renderer's value lies within the native interval, and the
+section names those that do not. Repository tooling, not in the wheel.
 """
 
 from __future__ import annotations
@@ -161,7 +161,8 @@ def main(argv: list[str] | None = None) -> int:
                                 formatter_class=argparse.RawDescriptionHelpFormatter)
     p.add_argument("folder", type=Path, help="make renderers' folder (native/, sse41/)")
     p.add_argument("--store", type=Path, default=Path("docs/runs/placenav-v4"))
-    p.add_argument("--docs", metavar="FILE", help="also write the section renderers there")
+    p.add_argument("--docs", metavar="FILE", help="also write the section renderers there "
+                   "(docs/rendering.md)")
     argv = sys.argv[1:] if argv is None else list(argv)
     args = p.parse_args(argv)
     native, sse41 = args.folder / "native", args.folder / "sse41"

@@ -1,4 +1,4 @@
-"""``python -m envs.commands.reproduce``: a shipped store's rows come out of this install, field by field."""
+"""``python -m envs.commands.reproduce``: a shipped store's rows come out of this install."""
 
 import json
 import shutil
