@@ -141,7 +141,7 @@ def main(argv: list[str] | None = None,
         if not rows:
             raise ValueError(f"{args.store}/runs holds no job" + (
                 f" of {args.recognizer}" if args.recognizer else ""))
-        unlike = unlike_here(rows[0])
+        unlike = next(filter(None, map(unlike_here, rows)), None)
         if unlike:
             raise ValueError(f"{args.store} cannot be reproduced here: {unlike}")
         jobs = [(row, job_of(row, suite)) for row in rows]  # every one found before any runs
