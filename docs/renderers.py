@@ -45,8 +45,8 @@ DEMO_ROWS = {"online (seed 000)": "online (seed 000)",
              "online (seed 000), forward camera": "online, forward"}
 #: the open-loop figures compared: the bench's bar (precision, NMI, places per room)
 OPEN_LOOP = ("precision", "nmi", "places_per_room")
-#: the label of a recognizer's rows drawn by the second renderer
-SECOND = "{} (sse4.1)"
+#: the label's end of a recognizer's rows drawn by the second renderer
+SECOND = " (sse4.1)"
 
 
 def demo_table(native: Path, sse41: Path) -> str:
@@ -114,7 +114,8 @@ def open_loop_table(native: Path, sse41: Path) -> tuple[str, list[str]]:
 
 def merged_tracks(store: Path, sse41: Path) -> dict[str, dict[str, Any]]:
     """Per track, the store's results with the second renderer's rows beside them, each of its
-    recognizers renamed ``SECOND``: one file a track, so :func:`pair_table` pairs them."""
+    recognizers named with ``SECOND`` at the end: one file a track, so :func:`pair_table`
+    pairs them."""
     native = load_tracks(sorted(store.glob("*/results.json")))
     second = load_tracks(sorted((sse41 / store.name).glob("*/results.json")))
     merged = {}
@@ -124,9 +125,8 @@ def merged_tracks(store: Path, sse41: Path) -> dict[str, dict[str, Any]]:
         other = second[track]
         # the native rows of the bounds and of what the second renderer drew, no others
         keep = {"none", "oracle-pose", *(r["recognizer"] for r in other["buildings"])}
-        renamed = [{**r, "recognizer": SECOND.format(r["recognizer"])} for r in other["buildings"]]
-        summaries = [{**s, "recognizer": SECOND.format(s["recognizer"])}
-                     for s in other["summaries"]]
+        renamed = [{**r, "recognizer": r["recognizer"] + SECOND} for r in other["buildings"]]
+        summaries = [{**s, "recognizer": s["recognizer"] + SECOND} for s in other["summaries"]]
         merged[track] = {
             **doc, "buildings": [r for r in doc["buildings"] if r["recognizer"] in keep] + renamed,
             "summaries": [s for s in doc["summaries"] if s["recognizer"] in keep] + summaries}
@@ -139,18 +139,18 @@ def closed_loop(store: Path, sse41: Path) -> tuple[str, list[str]]:
     pixels by each renderer."""
     docs = merged_tracks(store, sse41)
     drawn = sorted({r["recognizer"] for d in docs.values() for r in d["buildings"]
-                    if r["recognizer"].endswith(SECOND.format(""))})
+                    if r["recognizer"].endswith(SECOND)})
     table, scores = score_table(docs, "none", "oracle-pose", "mean")
     parts, moved = [table], []
     for name in drawn:
-        plain = name[: -len(SECOND.format(""))]
+        plain = name.removesuffix(SECOND)
         parts.append(pair_table(docs, name, plain, "none", "oracle-pose", "mean")[0])
         first, second = scores[plain], scores[name]
         if not first["low"] <= second["mean"] <= first["high"]:
             moved.append(f"{plain}'s suite score ({first['mean']:.2f} against "
                          f"{second['mean']:.2f})")
     if len(drawn) == 2:  # the ranking of the two by each renderer
-        plain = [n[: -len(SECOND.format(""))] for n in drawn]
+        plain = [n.removesuffix(SECOND) for n in drawn]
         parts.append(pair_table(docs, plain[0], plain[1], "none", "oracle-pose", "mean")[0])
         parts.append(pair_table(docs, drawn[0], drawn[1], "none", "oracle-pose", "mean")[0])
     return "\n\n".join(parts), moved
