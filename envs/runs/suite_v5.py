@@ -19,8 +19,9 @@ v5 is v4's question, where a picture was taken, asked so that the verdict is the
 - the changed tracks run twice, the map learning during the errands and fixed (``-fixed``):
   what a day map is worth by night.
 
-Until its full run is in ``docs/benchmarks.md`` the sizes here are provisional: they are
-chosen on ``val`` (``docs/design.md``), and a published suite is never edited.
+Its sizes were chosen on ``val`` (``docs/design.md``); its full run is in ``docs/benchmarks.md``
+("`placenav-v5` at full size", the job store in ``docs/runs/placenav-v5``). A published suite
+is never edited: a change of rules is a new suite.
 
 Examples:
     >>> V5["name"], V5["agent"], dict(V5["errands"])["env_id"]

@@ -8,7 +8,8 @@ import pytest
 
 from envs.commands import reproduce
 
-V4 = Path(__file__).resolve().parents[3] / "docs" / "runs" / "placenav-v4"
+STORES = Path(__file__).resolve().parents[3] / "docs" / "runs"
+V4 = STORES / "placenav-v4"
 
 
 def test_differences_name_each_field_that_moved_and_ignore_timings():
@@ -49,15 +50,18 @@ def test_a_stored_row_finds_its_job_under_todays_key():
     assert set(job["tracks"]) == set(row["tracks"])
 
 
-def test_this_install_gives_placenav_v4s_stored_rows_again():
-    """The cheapest job of a recognizer that reads pixels (seed 001's mapper, ~40 s) and the
-    cheapest oracle's, row for row: the pinned environment reproduces the shipped store. A
-    machine whose renderer draws other pixels cannot, and says which."""
-    rows = reproduce.stored_rows(V4)
+@pytest.mark.parametrize("suite, recognizers", [("placenav-v4", ("nested", "oracle-pose")),
+                                                ("placenav-v5", ("nested",))])
+def test_this_install_gives_a_shipped_stores_rows_again(suite, recognizers):
+    """The cheapest job of a recognizer that reads pixels (seed 001's mapper, ~40 s a suite)
+    and, for v4, the cheapest oracle's, row for row: the pinned environment reproduces the
+    shipped stores (v5's on its own gyro, goals and agent). A machine whose renderer draws
+    other pixels cannot, and says which."""
+    rows = reproduce.stored_rows(STORES / suite)
     unlike = reproduce.unlike_here(rows[0])
     if unlike:
-        pytest.skip(f"placenav-v4's store cannot be reproduced here: {unlike}")
-    for recognizer in ("nested", "oracle-pose"):
+        pytest.skip(f"{suite}'s store cannot be reproduced here: {unlike}")
+    for recognizer in recognizers:
         row = next(r for r in rows if r["recognizer"] == recognizer)
         assert reproduce.differences(row, reproduce.run_again(
-            reproduce.job_of(row, "placenav-v4"))) == [], row["key"]
+            reproduce.job_of(row, suite))) == [], row["key"]
